@@ -1,0 +1,8 @@
+//! stride-ad: the derivative layer.
+//!
+//! [`Scalar`] is the number type all model functions are generic over. The rest of the
+//! crate records such functions once and evaluates exact sparse Jacobians and Hessians.
+
+pub mod scalar;
+
+pub use scalar::{smooth_step, Scalar, UnaryFn};

@@ -1,0 +1,360 @@
+//! The immutable description of a musculoskeletal model.
+//!
+//! A [`Model`] is plain data (serialisable): bodies, joints, coordinates, muscles, contact
+//! spheres, actuators and passive joint elements. Algorithms are free functions over a
+//! model and a workspace (see [`crate::multibody`]), in the style of Pinocchio.
+//!
+//! Frames follow OpenSim: ground x forward, y up, z to the right. Units are SI
+//! (m, kg, s, N, rad) throughout.
+
+use serde::{Deserialize, Serialize};
+
+/// Index of a body in [`Model::bodies`]; index 0 is always the ground.
+pub type BodyId = usize;
+/// Index of a coordinate in [`Model::coordinates`].
+pub type CoordId = usize;
+
+/// A whole musculoskeletal model.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Model {
+    /// Model name (from the `.osim` `Model` element).
+    pub name: String,
+    /// Gravity vector in ground [m s⁻²].
+    pub gravity: [f64; 3],
+    /// Rigid bodies; `bodies[0]` is the ground (mass 0).
+    pub bodies: Vec<Body>,
+    /// Joints in topological order: a joint's parent body is the ground or the child of an
+    /// earlier joint. Every non-ground body is the child of exactly one joint.
+    pub joints: Vec<Joint>,
+    /// Generalised coordinates, in the order of the model's state vectors.
+    pub coordinates: Vec<Coordinate>,
+    /// Hill-type muscles with their paths.
+    pub muscles: Vec<Muscle>,
+    /// Contact spheres interacting with the ground half-space.
+    pub contacts: Vec<ContactSphere>,
+    /// Ideal coordinate actuators (torque or force generators).
+    pub actuators: Vec<CoordinateActuator>,
+    /// Passive joint torques (exponential limit springs and damping) per coordinate.
+    pub passive_torques: Vec<PassiveJointTorque>,
+    /// Elements of the source file that were not imported, reported to the user.
+    pub unsupported: Vec<UnsupportedElement>,
+}
+
+/// A rigid body.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Body {
+    /// Body name (OpenSim `Body` name).
+    pub name: String,
+    /// Mass [kg].
+    pub mass: f64,
+    /// Centre of mass in the body frame [m].
+    pub com: [f64; 3],
+    /// Inertia about the centre of mass in body axes [kg m²]: `[xx, yy, zz, xy, xz, yz]`.
+    pub inertia: [f64; 6],
+}
+
+/// A rigid transform: rotation (body-fixed X–Y–Z Euler angles, OpenSim convention) and
+/// translation, from a body frame to a frame fixed on it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Offset {
+    /// Position of the frame origin in the body frame [m].
+    pub location: [f64; 3],
+    /// Orientation as body-fixed X–Y–Z Euler angles [rad].
+    pub orientation: [f64; 3],
+}
+
+/// A joint connecting a parent body to a child body.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Joint {
+    /// Joint name.
+    pub name: String,
+    /// Parent body.
+    pub parent: BodyId,
+    /// Child body.
+    pub child: BodyId,
+    /// Joint frame F fixed on the parent.
+    pub frame_in_parent: Offset,
+    /// Joint frame M fixed on the child.
+    pub frame_in_child: Offset,
+    /// Kinematics of M relative to F.
+    pub kind: JointKind,
+}
+
+/// How the child frame M moves relative to the parent frame F.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub enum JointKind {
+    /// No relative motion.
+    Weld,
+    /// OpenSim `CustomJoint` (Simbody function-based mobiliser): three rotations, applied
+    /// as successive body-fixed rotations about `rotations[k].axis` (axes in F), then
+    /// three translations along axes fixed in F.
+    Custom {
+        /// Rotation axes 1–3 with their coordinate functions.
+        rotations: [TransformAxis; 3],
+        /// Translation axes 1–3 with their coordinate functions.
+        translations: [TransformAxis; 3],
+    },
+}
+
+/// One axis of a `SpatialTransform`: a unit direction and the function of coordinates
+/// that gives the angle [rad] or displacement [m] along it.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TransformAxis {
+    /// Unit axis, expressed in the joint's parent frame F.
+    pub axis: [f64; 3],
+    /// The coordinate the function reads, if any (functions of several coordinates are
+    /// not supported by the importer and are reported).
+    pub coordinate: Option<CoordId>,
+    /// Angle or displacement as a function of the coordinate value.
+    pub function: Function,
+}
+
+/// A function of one variable, as in OpenSim's function set.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Function {
+    /// `f(x) = value`.
+    Constant(f64),
+    /// `f(x) = slope x + intercept`.
+    Linear {
+        /// Slope.
+        slope: f64,
+        /// Value at x = 0.
+        intercept: f64,
+    },
+    /// OpenSim `SimmSpline`: natural cubic spline through the knots `(x, y)`.
+    SimmSpline {
+        /// Knot abscissae (strictly increasing).
+        x: Vec<f64>,
+        /// Knot ordinates.
+        y: Vec<f64>,
+    },
+    /// `f(x) = Σ c_k x^(n-1-k)` (OpenSim `PolynomialFunction`, highest power first).
+    Polynomial {
+        /// Coefficients, highest power first.
+        coefficients: Vec<f64>,
+    },
+    /// `f(x) = scale · g(x)` (OpenSim `MultiplierFunction`).
+    Multiplier {
+        /// Scale factor.
+        scale: f64,
+        /// The scaled function.
+        function: Box<Function>,
+    },
+}
+
+/// Whether a coordinate is an angle or a displacement.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum MotionType {
+    /// Angle [rad].
+    Rotational,
+    /// Displacement [m].
+    Translational,
+    /// Coupled (not supported by the importer).
+    Coupled,
+}
+
+/// A generalised coordinate.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Coordinate {
+    /// Coordinate name (OpenSim).
+    pub name: String,
+    /// Joint that owns the coordinate.
+    pub joint: usize,
+    /// Angle or displacement.
+    pub motion_type: MotionType,
+    /// Allowed range `[min, max]` [rad or m].
+    pub range: [f64; 2],
+    /// Default value [rad or m].
+    pub default_value: f64,
+    /// Locked at its default value.
+    pub locked: bool,
+}
+
+/// Hill-type muscle model named in the source file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum MuscleKind {
+    /// OpenSim `Thelen2003Muscle`.
+    Thelen2003,
+    /// OpenSim `Millard2012EquilibriumMuscle`.
+    Millard2012Equilibrium,
+}
+
+/// A muscle–tendon unit: Hill parameters and its path.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Muscle {
+    /// Muscle name.
+    pub name: String,
+    /// Muscle model of the source file (the contraction dynamics used by stride are
+    /// always De Groote 2016; the parameters carry over).
+    pub kind: MuscleKind,
+    /// Maximal isometric force F_max [N].
+    pub max_isometric_force: f64,
+    /// Optimal fibre length l_opt [m].
+    pub optimal_fiber_length: f64,
+    /// Tendon slack length l_ts [m].
+    pub tendon_slack_length: f64,
+    /// Pennation angle at optimal fibre length [rad].
+    pub pennation_angle_at_optimal: f64,
+    /// Maximal contraction velocity [l_opt s⁻¹] (10 in the paper).
+    pub max_contraction_velocity: f64,
+    /// Path points from origin to insertion.
+    pub path: Vec<PathPoint>,
+}
+
+/// A point of a muscle path, fixed on a body.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PathPoint {
+    /// Point name.
+    pub name: String,
+    /// Body the point is attached to.
+    pub body: BodyId,
+    /// Location in the body frame [m] (for moving points: used only where no function is given).
+    pub location: [f64; 3],
+    /// Fixed, conditional or moving.
+    pub kind: PathPointKind,
+}
+
+/// The kind of a path point.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub enum PathPointKind {
+    /// Always active, fixed location.
+    Fixed,
+    /// Active only while `coordinate` lies within `range` (inclusive) [rad or m].
+    Conditional {
+        /// Coordinate deciding activity.
+        coordinate: CoordId,
+        /// Active range `[min, max]`.
+        range: [f64; 2],
+    },
+    /// Location components given as functions of coordinates (OpenSim `MovingPathPoint`).
+    Moving {
+        /// x, y, z components: `Some((coordinate, function))`, or `None` for the fixed
+        /// component of `location`.
+        components: [Option<(CoordId, Function)>; 3],
+    },
+}
+
+/// Parameters of the smooth Hunt–Crossley sphere–plane contact (OpenSim
+/// `SmoothSphereHalfSpaceForce`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactParameters {
+    /// Plane-strain modulus E [N m⁻²].
+    pub stiffness: f64,
+    /// Hunt–Crossley dissipation c [s m⁻¹].
+    pub dissipation: f64,
+    /// Static friction coefficient μ_s.
+    pub static_friction: f64,
+    /// Dynamic friction coefficient μ_d.
+    pub dynamic_friction: f64,
+    /// Viscous friction coefficient μ_v [s m⁻¹].
+    pub viscous_friction: f64,
+    /// Transition velocity v_t [m s⁻¹].
+    pub transition_velocity: f64,
+    /// Smoothing constant c_f added under the square roots [m² or m² s⁻²].
+    pub constant_contact_force: f64,
+    /// Steepness of the Hertz smoothing b_d [m⁻¹].
+    pub hertz_smoothing: f64,
+    /// Steepness of the Hunt–Crossley smoothing b_v [s m⁻¹].
+    pub hunt_crossley_smoothing: f64,
+}
+
+impl Default for ContactParameters {
+    /// The parameters of the paper (Falisse et al. 2019, generic contact model).
+    fn default() -> Self {
+        Self {
+            stiffness: 1.0e6,
+            dissipation: 2.0,
+            static_friction: 0.8,
+            dynamic_friction: 0.8,
+            viscous_friction: 0.5,
+            transition_velocity: 0.2,
+            constant_contact_force: 1.0e-5,
+            hertz_smoothing: 300.0,
+            hunt_crossley_smoothing: 50.0,
+        }
+    }
+}
+
+/// A contact sphere fixed on a body, in contact with the ground half-space.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ContactSphere {
+    /// Name of the force element (e.g. `contact_sphere_1_r`).
+    pub name: String,
+    /// Body carrying the sphere.
+    pub body: BodyId,
+    /// Sphere centre in the body frame [m].
+    pub location: [f64; 3],
+    /// Radius [m].
+    pub radius: f64,
+    /// Contact law parameters.
+    pub parameters: ContactParameters,
+    /// A point of the ground plane, in ground [m].
+    pub plane_point: [f64; 3],
+    /// Outward unit normal of the ground half-space, in ground.
+    pub plane_normal: [f64; 3],
+}
+
+/// An ideal actuator of one coordinate: generalised force = `optimal_force · control`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CoordinateActuator {
+    /// Actuator name.
+    pub name: String,
+    /// Actuated coordinate.
+    pub coordinate: CoordId,
+    /// Force or torque per unit control [N m or N].
+    pub optimal_force: f64,
+    /// Control bounds `[min, max]`.
+    pub control_range: [f64; 2],
+}
+
+/// Passive joint torque of one coordinate:
+/// `T = k1 exp(k2 (q − θ2)) + k3 exp(k4 (q − θ1)) − damping · q̇` [N m].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PassiveJointTorque {
+    /// The coordinate.
+    pub coordinate: CoordId,
+    /// Stiffness coefficients `[k1, k2, k3, k4]` ([N m], [rad⁻¹], [N m], [rad⁻¹]).
+    pub k: [f64; 4],
+    /// Thresholds `[θ1 (lower), θ2 (upper)]` [rad].
+    pub theta: [f64; 2],
+    /// Linear damping [N m s rad⁻¹].
+    pub damping: f64,
+}
+
+/// An element of the source file that the importer did not turn into model data.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnsupportedElement {
+    /// XML element type (e.g. `WrapCylinder`).
+    pub element: String,
+    /// Name attribute, if any.
+    pub name: String,
+    /// Path of the element in the document, e.g. `Model/ForceSet/objects/PointActuator`.
+    pub path: String,
+    /// Line in the source file (1-based).
+    pub line: usize,
+    /// Why it was not imported.
+    pub reason: String,
+}
+
+impl Model {
+    /// Total mass of all bodies [kg].
+    pub fn total_mass(&self) -> f64 {
+        self.bodies.iter().map(|b| b.mass).sum()
+    }
+    /// Index of the body with this name.
+    pub fn body_index(&self, name: &str) -> Option<BodyId> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+    /// Index of the coordinate with this name.
+    pub fn coordinate_index(&self, name: &str) -> Option<CoordId> {
+        self.coordinates.iter().position(|c| c.name == name)
+    }
+    /// Index of the muscle with this name.
+    pub fn muscle_index(&self, name: &str) -> Option<usize> {
+        self.muscles.iter().position(|m| m.name == name)
+    }
+    /// Index of the joint whose child is `body`.
+    pub fn joint_of_body(&self, body: BodyId) -> Option<usize> {
+        self.joints.iter().position(|j| j.child == body)
+    }
+}

@@ -1,0 +1,1 @@
+//! stride-solve: Nonlinear-program abstraction and interior-point solver backends for stride.

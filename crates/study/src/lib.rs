@@ -1,0 +1,1 @@
+//! stride-study: Study files, parameter sweeps and result stores for stride.
