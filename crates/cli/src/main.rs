@@ -1,5 +1,8 @@
 //! `stride`: predict human gait from a musculoskeletal model and a target speed.
 
+mod fit_cmd;
+mod model_cmd;
+
 use clap::{Parser, Subcommand};
 
 /// Command-line arguments of `stride`.
@@ -17,16 +20,24 @@ struct Cli {
 /// The subcommands of `stride`.
 #[derive(Subcommand)]
 enum Command {
-    /// Print the version and the built-in model's name.
+    /// Print the version.
     Info,
+    /// Inspect, fit and build musculoskeletal models.
+    #[command(subcommand)]
+    Model(model_cmd::ModelCommand),
 }
 
-fn main() -> anyhow::Result<()> {
+fn main() {
     let cli = Cli::parse();
-    match cli.command {
+    let result = match cli.command {
         Command::Info => {
             println!("stride {}", env!("CARGO_PKG_VERSION"));
+            Ok(())
         }
+        Command::Model(cmd) => model_cmd::run(cmd),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
     }
-    Ok(())
 }
