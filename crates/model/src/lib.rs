@@ -1,8 +1,20 @@
 //! stride-model: musculoskeletal models.
 //!
 //! - [`model`]: the immutable model description (bodies, joints, coordinates, muscles,
-//!   contact spheres, actuators, passive elements).
+//!   contact spheres, actuators, passive elements, polynomial geometry).
+//! - [`osim`]: OpenSim `.osim` import.
+//! - [`storage`]: OpenSim `.mot`/`.sto` files.
+//! - [`signal`]: filtering and splines for experimental data.
+//! - [`function`]: coordinate functions (linear, splines, ...) generic over the scalar.
+//! - [`reference`]: loaders of the paper's reference tables.
+//! - [`default_model`]: the built-in model.
 
+pub mod default_model;
+pub mod function;
 pub mod model;
+pub mod osim;
+pub mod reference;
+pub mod signal;
+pub mod storage;
 
 pub use model::*;

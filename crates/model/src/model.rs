@@ -36,6 +36,9 @@ pub struct Model {
     pub actuators: Vec<CoordinateActuator>,
     /// Passive joint torques (exponential limit springs and damping) per coordinate.
     pub passive_torques: Vec<PassiveJointTorque>,
+    /// Polynomial muscle–tendon geometry, one entry per muscle (same order as `muscles`);
+    /// empty when the model has not been fitted.
+    pub path_polynomials: Vec<Option<PathPolynomial>>,
     /// Elements of the source file that were not imported, reported to the user.
     pub unsupported: Vec<UnsupportedElement>,
 }
@@ -199,6 +202,28 @@ pub struct Muscle {
     pub max_contraction_velocity: f64,
     /// Path points from origin to insertion.
     pub path: Vec<PathPoint>,
+    /// Fraction of slow-twitch fibres (0–1) for the metabolic models (0.5 when unknown).
+    pub slow_twitch_fraction: f64,
+    /// Specific tension σ [Pa] used for the muscle mass (0.25 MPa when unknown).
+    pub specific_tension: f64,
+}
+
+/// Polynomial approximation of a muscle–tendon length:
+/// `l_MT(q) = Σ_k c_k Π_j q[coordinates[j]]^exponents[k][j]` [m], with q in rad (or m).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PathPolynomial {
+    /// Coordinates the muscle spans, in the order of the exponent tuples.
+    pub coordinates: Vec<CoordId>,
+    /// Total polynomial order p.
+    pub order: u32,
+    /// Exponent tuple of each monomial (one exponent per spanned coordinate).
+    pub exponents: Vec<Vec<u8>>,
+    /// Coefficient of each monomial [m].
+    pub coefficients: Vec<f64>,
+    /// RMS error of the fitted length over the fitting samples [m], if known.
+    pub rmse_length: Option<f64>,
+    /// Largest RMS error of the fitted moment arms over the spanned coordinates [m], if known.
+    pub rmse_moment_arm: Option<f64>,
 }
 
 /// A point of a muscle path, fixed on a body.
@@ -334,6 +359,30 @@ pub struct UnsupportedElement {
     pub line: usize,
     /// Why it was not imported.
     pub reason: String,
+}
+
+impl Default for Model {
+    /// An empty model: only the ground body, gravity −9.81 m s⁻² along y.
+    fn default() -> Self {
+        Self {
+            name: String::new(),
+            gravity: [0.0, -9.81, 0.0],
+            bodies: vec![Body {
+                name: "ground".into(),
+                mass: 0.0,
+                com: [0.0; 3],
+                inertia: [0.0; 6],
+            }],
+            joints: Vec::new(),
+            coordinates: Vec::new(),
+            muscles: Vec::new(),
+            contacts: Vec::new(),
+            actuators: Vec::new(),
+            passive_torques: Vec::new(),
+            path_polynomials: Vec::new(),
+            unsupported: Vec::new(),
+        }
+    }
 }
 
 impl Model {

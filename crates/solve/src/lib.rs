@@ -1,1 +1,11 @@
-//! stride-solve: Nonlinear-program abstraction and interior-point solver backends for stride.
+//! stride-solve: nonlinear programs and the solvers that solve them.
+//!
+//! - [`nlp`]: the nonlinear-program abstraction (bounds, functions, sparse derivatives).
+//! - [`solver`]: the `Solver` trait, its options and its result type.
+//! - [`ipm`]: stride's own pure-Rust interior-point method.
+//! - [`problems`]: test problems with known solutions.
+
+pub mod ipm;
+pub mod nlp;
+pub mod problems;
+pub mod solver;

@@ -1,0 +1,1 @@
+//! Evaluation of OpenSim coordinate functions generic over the scalar.

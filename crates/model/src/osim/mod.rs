@@ -1,0 +1,1 @@
+//! OpenSim .osim import (formats 30000 and 40000).

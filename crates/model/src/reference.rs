@@ -1,0 +1,1 @@
+//! Loaders for the reference tables of the paper (contact spheres, passive torques, polynomials, metabolic parameters).

@@ -1,0 +1,1 @@
+//! OpenSim storage files (.mot/.sto): reading and writing.

@@ -1,0 +1,1 @@
+//! stride's own pure-Rust primal-dual interior-point method.

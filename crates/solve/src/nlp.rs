@@ -1,0 +1,1 @@
+//! The nonlinear-program abstraction.

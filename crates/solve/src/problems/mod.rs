@@ -1,0 +1,1 @@
+//! Test problems with known solutions (classic NLPs and a scalable collocation problem).

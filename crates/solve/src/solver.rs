@@ -1,0 +1,1 @@
+//! The Solver trait, its options and its result type.
