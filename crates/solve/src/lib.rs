@@ -4,7 +4,9 @@
 //! - [`solver`]: the `Solver` trait, its options and its result type.
 //! - [`ipm`]: stride's own pure-Rust interior-point method.
 //! - [`problems`]: test problems with known solutions.
+//! - [`backends`]: other solver backends (ripopt, system IPOPT behind the `ipopt` feature).
 
+pub mod backends;
 pub mod ipm;
 pub mod nlp;
 pub mod problems;
