@@ -1,1 +1,398 @@
 //! OpenSim storage files (.mot/.sto): reading and writing.
+//!
+//! A storage file is a header (lines up to `endheader`, e.g. `version=1`, `nRows=`,
+//! `nColumns=`, `inDegrees=yes|no`, or the older `name`/`datacolumns`/`datarows`/`range`
+//! style), one line of column labels, and numeric rows separated by tabs or spaces.
+//! Values may be `nan`/`NaN`/`inf`.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Errors reading or writing a storage file; every variant names the file (and line).
+#[derive(Debug, thiserror::Error)]
+pub enum StorageError {
+    /// The file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// File concerned.
+        path: PathBuf,
+        /// Underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file has no `endheader` line.
+    #[error("{path}: no `endheader` line found")]
+    NoEndHeader {
+        /// File concerned.
+        path: PathBuf,
+    },
+    /// The file ends right after the header, without a label line.
+    #[error("{path}: no column label line after `endheader`")]
+    NoLabels {
+        /// File concerned.
+        path: PathBuf,
+    },
+    /// A data entry is not a number.
+    #[error("{path}:{line}: column {column} (`{label}`): `{text}` is not a number")]
+    BadNumber {
+        /// File concerned.
+        path: PathBuf,
+        /// Line number (1-based).
+        line: usize,
+        /// Column index (0-based).
+        column: usize,
+        /// Column label.
+        label: String,
+        /// The offending text.
+        text: String,
+    },
+    /// A data row has a different number of entries than there are labels.
+    #[error("{path}:{line}: row has {found} values but there are {expected} column labels")]
+    RowLength {
+        /// File concerned.
+        path: PathBuf,
+        /// Line number (1-based).
+        line: usize,
+        /// Number of labels.
+        expected: usize,
+        /// Number of values on the row.
+        found: usize,
+    },
+    /// A storage to be written is inconsistent (row length differs from label count).
+    #[error("storage `{name}`: row {row} has {found} values but there are {expected} labels")]
+    Inconsistent {
+        /// Storage name.
+        name: String,
+        /// Row index (0-based).
+        row: usize,
+        /// Number of labels.
+        expected: usize,
+        /// Number of values on the row.
+        found: usize,
+    },
+}
+
+/// The content of an OpenSim storage file: named columns of numbers (time first, usually).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Storage {
+    /// Name (first header line, or the `name` key of the older format).
+    pub name: String,
+    /// Whether angles are in degrees (`inDegrees=yes`), if the header says.
+    pub in_degrees: Option<bool>,
+    /// Column labels (e.g. `time`, coordinate names).
+    pub labels: Vec<String>,
+    /// Numeric rows, each with `labels.len()` values.
+    pub rows: Vec<Vec<f64>>,
+}
+
+fn parse_value(s: &str) -> Option<f64> {
+    match s.to_ascii_lowercase().as_str() {
+        "nan" | "-nan" | "+nan" => Some(f64::NAN),
+        "inf" | "+inf" | "infinity" => Some(f64::INFINITY),
+        "-inf" | "-infinity" => Some(f64::NEG_INFINITY),
+        _ => s.parse::<f64>().ok(),
+    }
+}
+
+impl Storage {
+    /// Read a storage file (`.mot`, `.sto`) from disk.
+    pub fn read(path: &Path) -> Result<Storage, StorageError> {
+        let text = std::fs::read_to_string(path).map_err(|source| StorageError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text, path)
+    }
+
+    /// Parse the text of a storage file; `path` is used only in error messages.
+    pub fn parse(text: &str, path: &Path) -> Result<Storage, StorageError> {
+        let mut lines = text.lines().enumerate();
+        let mut name = String::new();
+        let mut in_degrees = None;
+        let mut found_end = false;
+        let mut first = true;
+        for (_, raw) in lines.by_ref() {
+            let line = raw.trim();
+            if line.eq_ignore_ascii_case("endheader") {
+                found_end = true;
+                break;
+            }
+            if let Some((key, value)) = line.split_once('=') {
+                let (key, value) = (key.trim(), value.trim());
+                if key.eq_ignore_ascii_case("inDegrees") {
+                    in_degrees = Some(value.eq_ignore_ascii_case("yes"));
+                }
+            } else if let Some(rest) = line.strip_prefix("name ") {
+                name = rest.trim().to_string();
+            } else if first && !line.is_empty() {
+                name = line.to_string();
+            }
+            if !line.is_empty() {
+                first = false;
+            }
+        }
+        if !found_end {
+            return Err(StorageError::NoEndHeader {
+                path: path.to_path_buf(),
+            });
+        }
+        let labels: Vec<String> = loop {
+            match lines.next() {
+                Some((_, l)) if l.trim().is_empty() => continue,
+                Some((_, l)) => break l.split_whitespace().map(str::to_string).collect(),
+                None => {
+                    return Err(StorageError::NoLabels {
+                        path: path.to_path_buf(),
+                    })
+                }
+            }
+        };
+        let mut rows = Vec::new();
+        for (i, raw) in lines {
+            if raw.trim().is_empty() {
+                continue;
+            }
+            let mut row = Vec::with_capacity(labels.len());
+            for (column, tok) in raw.split_whitespace().enumerate() {
+                let v = parse_value(tok).ok_or_else(|| StorageError::BadNumber {
+                    path: path.to_path_buf(),
+                    line: i + 1,
+                    column,
+                    label: labels.get(column).cloned().unwrap_or_default(),
+                    text: tok.to_string(),
+                })?;
+                row.push(v);
+            }
+            if row.len() != labels.len() {
+                return Err(StorageError::RowLength {
+                    path: path.to_path_buf(),
+                    line: i + 1,
+                    expected: labels.len(),
+                    found: row.len(),
+                });
+            }
+            rows.push(row);
+        }
+        Ok(Storage {
+            name,
+            in_degrees,
+            labels,
+            rows,
+        })
+    }
+
+    /// Index of the column with this label.
+    pub fn column_index(&self, label: &str) -> Option<usize> {
+        self.labels.iter().position(|l| l == label)
+    }
+
+    /// The values of the column with this label (one per row), if present.
+    pub fn column(&self, label: &str) -> Option<Vec<f64>> {
+        let j = self.column_index(label)?;
+        Some(self.rows.iter().map(|r| r[j]).collect())
+    }
+
+    /// The `time` column [s] (or the first column when no column is labelled `time`).
+    pub fn time(&self) -> Vec<f64> {
+        self.column("time")
+            .unwrap_or_else(|| self.rows.iter().map(|r| r[0]).collect())
+    }
+
+    /// Number of data rows.
+    pub fn n_rows(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// Render the storage in the OpenSim `version=1` text format.
+    pub fn to_text(&self) -> Result<String, StorageError> {
+        for (row, r) in self.rows.iter().enumerate() {
+            if r.len() != self.labels.len() {
+                return Err(StorageError::Inconsistent {
+                    name: self.name.clone(),
+                    row,
+                    expected: self.labels.len(),
+                    found: r.len(),
+                });
+            }
+        }
+        let name = if self.name.is_empty() {
+            "stride"
+        } else {
+            &self.name
+        };
+        let mut s = String::new();
+        s.push_str(name);
+        s.push('\n');
+        s.push_str("version=1\n");
+        s.push_str(&format!("nRows={}\n", self.rows.len()));
+        s.push_str(&format!("nColumns={}\n", self.labels.len()));
+        let deg = if self.in_degrees == Some(true) {
+            "yes"
+        } else {
+            "no"
+        };
+        s.push_str(&format!("inDegrees={deg}\n"));
+        s.push_str("endheader\n");
+        s.push_str(&self.labels.join("\t"));
+        s.push('\n');
+        for r in &self.rows {
+            let mut firstv = true;
+            for v in r {
+                if !firstv {
+                    s.push('\t');
+                }
+                firstv = false;
+                if v.is_nan() {
+                    s.push_str("nan");
+                } else {
+                    // `{:?}` prints the shortest representation that round-trips exactly.
+                    s.push_str(&format!("{v:?}"));
+                }
+            }
+            s.push('\n');
+        }
+        Ok(s)
+    }
+
+    /// Write the storage to `path` (atomically) in the OpenSim `version=1` format.
+    pub fn write(&self, path: &Path) -> Result<(), StorageError> {
+        let text = self.to_text()?;
+        write_atomic(path, text.as_bytes()).map_err(|source| StorageError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+}
+
+/// Write `bytes` to `path` atomically: write a temporary file in the same folder, then
+/// rename it over `path`, so readers never see a half-written result file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| {
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!("{}: not a file path", path.display()),
+            )
+        })?
+        .to_string_lossy()
+        .into_owned();
+    let tmp = dir.join(format!(".{file_name}.tmp{}", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shared() -> Option<PathBuf> {
+        let p = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared"));
+        if p.join("reference").is_dir() {
+            Some(p)
+        } else {
+            eprintln!("skipping: {} not found", p.display());
+            None
+        }
+    }
+
+    #[test]
+    fn reads_reference_ik() {
+        let Some(sh) = shared() else { return };
+        let s = Storage::read(&sh.join("reference/experimental/gait_1_ik.mot")).unwrap();
+        assert_eq!(s.name, "gait_1_ik");
+        assert_eq!(s.in_degrees, Some(true));
+        assert_eq!(s.labels.len(), 38);
+        assert_eq!(s.rows.len(), 146);
+        assert_eq!(s.time()[0], 3.05);
+        assert_eq!(s.column("pelvis_tilt").unwrap()[1], -1.09634923);
+        assert_eq!(s.column("knee_angle_r").unwrap()[0], -17.46472619);
+        assert!(s.column("nonexistent").is_none());
+    }
+
+    #[test]
+    fn reads_reference_grf_and_half_cycle() {
+        let Some(sh) = shared() else { return };
+        let g = Storage::read(&sh.join("reference/experimental/gait_1_grf.mot")).unwrap();
+        assert_eq!(g.labels.len(), 19);
+        assert_eq!(g.rows.len(), 6420);
+        assert_eq!(g.time()[0], 0.001);
+        let h =
+            Storage::read(&sh.join("reference/experimental/ik_walking_half_cycle.mot")).unwrap();
+        assert_eq!(h.labels.len(), 30);
+        assert_eq!(h.rows.len(), 50);
+        assert_eq!(h.column("pelvis_ty").unwrap()[0], 0.89975485);
+        assert_eq!(h.column("hip_flexion_r").unwrap()[0], 28.2104372);
+    }
+
+    #[test]
+    fn old_style_header_and_nan() {
+        let text = "name old\ndatacolumns 3\ndatarows 2\nrange 0 1\nendheader\n\
+                    time a b\n0 1.5 nan\n1 -2e-3 NaN\n";
+        let s = Storage::parse(text, Path::new("mem")).unwrap();
+        assert_eq!(s.name, "old");
+        assert_eq!(s.in_degrees, None);
+        assert_eq!(s.labels, vec!["time", "a", "b"]);
+        assert_eq!(s.column("a").unwrap(), vec![1.5, -2e-3]);
+        assert!(s.rows[1][2].is_nan());
+    }
+
+    #[test]
+    fn errors_name_line() {
+        let e = Storage::parse("x\nendheader\ntime a\n0 1\n1 zz\n", Path::new("f.mot"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("f.mot:5") && e.contains("`a`") && e.contains("zz"),
+            "{e}"
+        );
+        let e = Storage::parse("x\nendheader\ntime a\n0 1 2\n", Path::new("f.mot"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("f.mot:4"), "{e}");
+        let e = Storage::parse("x\nnRows=1\n", Path::new("f.mot"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("endheader"), "{e}");
+    }
+
+    #[test]
+    fn write_read_round_trip() {
+        let s = Storage {
+            name: "rt".into(),
+            in_degrees: Some(false),
+            labels: vec!["time".into(), "q".into(), "r".into()],
+            rows: vec![
+                vec![0.0, 0.1, 1.0 / 3.0],
+                vec![0.01, -1.234_567_890_123_456_7e-7, f64::NAN],
+            ],
+        };
+        let dir = std::env::temp_dir().join(format!("stride_storage_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("rt.sto");
+        s.write(&p).unwrap();
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(text.starts_with("rt\nversion=1\nnRows=2\nnColumns=3\ninDegrees=no\nendheader\n"));
+        let r = Storage::read(&p).unwrap();
+        assert_eq!(r.name, "rt");
+        assert_eq!(r.in_degrees, Some(false));
+        assert_eq!(r.labels, s.labels);
+        assert_eq!(r.rows[0], s.rows[0]);
+        assert_eq!(r.rows[1][1], s.rows[1][1]);
+        assert!(r.rows[1][2].is_nan());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
