@@ -124,6 +124,7 @@ macro_rules! impl_dual_ops {
         }
     };
 }
+pub(crate) use impl_dual_ops;
 
 /// A forward-mode dual number `re + eps·ε` (ε² = 0): value and one directional derivative.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]

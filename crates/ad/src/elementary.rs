@@ -46,7 +46,7 @@ pub fn tanh3(x: f64) -> [f64; 3] {
     [t, d, -2.0 * t * d]
 }
 
-/// `[xᵖ, p xᵖ⁻¹, p (p-1) xᵖ⁻²]` for a constant exponent `p`.
+/// `[xᵖ, p xᵖ⁻¹, p (p-1) xᵖ⁻²]` for a constant exponent `p` (value exactly `f64::powf`).
 #[inline]
 pub fn powf3(x: f64, p: f64) -> [f64; 3] {
     if p == 0.0 {
@@ -55,13 +55,11 @@ pub fn powf3(x: f64, p: f64) -> [f64; 3] {
     if p == 1.0 {
         return [x, 1.0, 0.0];
     }
-    if p == 2.0 {
-        return [x * x, 2.0 * x, 2.0];
-    }
-    let pm2 = x.powf(p - 2.0);
-    let pm1 = if x != 0.0 { pm2 * x } else { x.powf(p - 1.0) };
-    let v = if x != 0.0 { pm1 * x } else { x.powf(p) };
-    [v, p * pm1, p * (p - 1.0) * pm2]
+    [
+        x.powf(p),
+        p * x.powf(p - 1.0),
+        p * (p - 1.0) * x.powf(p - 2.0),
+    ]
 }
 
 /// `[1/x, -1/x², 2/x³]`.

@@ -286,3 +286,20 @@ fn dual_product_and_quotient_rules() {
     assert!(close((a - b).eps, -1.75));
     assert!(close((-a).eps, -0.25));
 }
+
+#[test]
+fn dualvec_carries_independent_directions() {
+    use stride_ad::DualVec;
+    // f(x, y) = x² y + sin(y) / x: ∂f/∂x = 2xy - sin(y)/x², ∂f/∂y = x² + cos(y)/x.
+    let (x0, y0) = (1.3, 0.4);
+    let x = DualVec::<3>::var(x0, 0);
+    let y = DualVec::<3>::var(y0, 1);
+    let f = x.sq() * y + y.sin() / x - DualVec::cst(1.0);
+    assert!(close(f.re, x0 * x0 * y0 + y0.sin() / x0 - 1.0));
+    assert!(close(f.eps[0], 2.0 * x0 * y0 - y0.sin() / (x0 * x0)));
+    assert!(close(f.eps[1], x0 * x0 + y0.cos() / x0));
+    assert_eq!(f.eps[2], 0.0);
+    let g = (x * 2.0 - 1.0).exp().fmax(y.tanh()).powf(1.5);
+    let u = (2.0 * x0 - 1.0).exp();
+    assert!(close(g.eps[0], 1.5 * u.sqrt() * 2.0 * u));
+}

@@ -1,0 +1,280 @@
+//! Turning a recording into an evaluation-ready tape: dead-code elimination, index-set
+//! sparsity of the Jacobian and of the Lagrangian Hessian, colouring, and the per-chunk
+//! node lists the sweeps walk.
+
+use super::op::{Curvature, Op};
+use super::var::Recorder;
+use super::{HesChunk, JacChunk, Tape, LANES};
+use crate::sparsity::{bits, greedy_colouring, BitSets, Pattern};
+
+/// Dead-code elimination: keeps the inputs and every node an output depends on.
+/// Returns the kept operations (remapped) and the new index of each output.
+pub(super) fn compact(
+    n_in: usize,
+    rec: &Recorder,
+    outputs: &[u32],
+) -> (Vec<Op>, Vec<f64>, Vec<u32>) {
+    let n = rec.ops.len();
+    let mut live = vec![false; n];
+    live[..n_in].iter_mut().for_each(|l| *l = true);
+    for &o in outputs {
+        live[o as usize] = true;
+    }
+    let mut args = Vec::with_capacity(3);
+    for k in (n_in..n).rev() {
+        if live[k] {
+            rec.ops[k].0.value_args(&mut args);
+            for &a in &args {
+                live[a as usize] = true;
+            }
+        }
+    }
+    let mut map = vec![u32::MAX; n];
+    let mut ops = Vec::new();
+    let mut vals = Vec::new();
+    let mut next = 0u32;
+    for k in 0..n {
+        if live[k] {
+            map[k] = next;
+            next += 1;
+            if k >= n_in {
+                ops.push(rec.ops[k].0.remap(&map));
+            }
+            vals.push(rec.ops[k].1);
+        }
+    }
+    let outs = outputs.iter().map(|&o| map[o as usize]).collect();
+    (ops, vals, outs)
+}
+
+/// Forward propagation of the input index sets `J(k)` of every node.
+pub(super) fn index_sets(n_in: usize, ops: &[Op]) -> BitSets {
+    let n = n_in + ops.len();
+    let mut j = BitSets::new(n, n_in);
+    for i in 0..n_in {
+        j.insert(i, i);
+    }
+    for (t, op) in ops.iter().enumerate() {
+        let k = n_in + t;
+        if let Some([a, b]) = op.diff_args() {
+            j.union_rows(k, a as usize);
+            j.union_rows(k, b as usize);
+        }
+    }
+    j
+}
+
+/// Nonlinear interaction sets `N(i)` (symmetric): `j ∈ N(i)` when `∂²/∂xᵢ∂xⱼ` of some
+/// node may be nonzero.
+fn interaction_sets(n_in: usize, ops: &[Op], jset: &BitSets) -> BitSets {
+    let mut nl = BitSets::new(n_in, n_in);
+    let mut buf: Vec<u64> = Vec::new();
+    for op in ops {
+        let Some([a, b]) = op.diff_args() else {
+            continue;
+        };
+        let (ja, jb) = (jset.row(a as usize), jset.row(b as usize));
+        match op.curvature() {
+            Curvature::Linear => {}
+            Curvature::Unary => {
+                for i in bits(ja) {
+                    nl.union_with(i, ja);
+                }
+            }
+            Curvature::Bilinear => {
+                for i in bits(ja) {
+                    nl.union_with(i, jb);
+                }
+                for i in bits(jb) {
+                    nl.union_with(i, ja);
+                }
+            }
+            Curvature::Quotient => {
+                buf.clear();
+                buf.extend(ja.iter().zip(jb).map(|(x, y)| x | y));
+                for i in bits(jb) {
+                    nl.union_with(i, &buf);
+                }
+                for i in bits(ja) {
+                    nl.union_with(i, jb);
+                }
+            }
+        }
+    }
+    nl
+}
+
+/// Neighbour lists of a conflict graph given, for each vertex, the groups it belongs to
+/// (two vertices conflict when they share a group).
+fn conflicts(members_of: &[Vec<u32>], groups: &[Vec<u32>]) -> Vec<Vec<u32>> {
+    let n = members_of.len();
+    let mut seen = vec![usize::MAX; n];
+    (0..n)
+        .map(|v| {
+            let mut out = Vec::new();
+            seen[v] = v;
+            for &g in &members_of[v] {
+                for &u in &groups[g as usize] {
+                    if seen[u as usize] != v {
+                        seen[u as usize] = v;
+                        out.push(u);
+                    }
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+/// Colours grouped `LANES` at a time, as lists of member vertices.
+fn chunks_of(colour: &[u32], n_colours: usize) -> Vec<Vec<u32>> {
+    let n_chunks = n_colours.div_ceil(LANES);
+    let mut chunks = vec![Vec::new(); n_chunks];
+    for (v, &c) in colour.iter().enumerate() {
+        chunks[c as usize / LANES].push(v as u32);
+    }
+    chunks
+}
+
+/// Derivative operands of each operation, with inactive operands sent to the sink node.
+pub(super) fn diff_args(n_in: usize, ops: &[Op], active: &[bool], sink: u32) -> Vec<[u32; 2]> {
+    let _ = n_in;
+    ops.iter()
+        .map(|op| match op.diff_args() {
+            Some([a, b]) => {
+                let f = |i: u32| if active[i as usize] { i } else { sink };
+                [f(a), f(b)]
+            }
+            None => [sink, sink],
+        })
+        .collect()
+}
+
+impl Tape {
+    /// Builds the Jacobian pattern, row colouring and reverse-sweep chunks.
+    pub(super) fn plan_jacobian(&mut self, jset: &BitSets) {
+        let n_in = self.n_in;
+        let m = self.outputs.len();
+        let mut pattern = Pattern {
+            n_rows: m,
+            n_cols: n_in,
+            ..Pattern::default()
+        };
+        let mut row_cols: Vec<Vec<u32>> = Vec::with_capacity(m);
+        for (r, &o) in self.outputs.iter().enumerate() {
+            let cols: Vec<u32> = bits(jset.row(o as usize)).map(|c| c as u32).collect();
+            for &c in &cols {
+                pattern.rows.push(r as u32);
+                pattern.cols.push(c);
+            }
+            row_cols.push(cols);
+        }
+        let mut col_rows: Vec<Vec<u32>> = vec![Vec::new(); n_in];
+        for (r, cols) in row_cols.iter().enumerate() {
+            for &c in cols {
+                col_rows[c as usize].push(r as u32);
+            }
+        }
+        let (colour, n_colours) = greedy_colouring(&conflicts(&row_cols, &col_rows));
+        let mut row_start = vec![0usize; m + 1];
+        for r in 0..m {
+            row_start[r + 1] = row_start[r] + row_cols[r].len();
+        }
+        let mut mark = vec![false; self.n_nodes];
+        for rows in chunks_of(&colour, n_colours) {
+            let mut chunk = JacChunk::default();
+            mark.iter_mut().for_each(|x| *x = false);
+            for &r in &rows {
+                let r = r as usize;
+                if row_cols[r].is_empty() {
+                    continue;
+                }
+                let lane = colour[r] % LANES as u32;
+                let node = self.outputs[r];
+                chunk.seeds.push((node, lane));
+                mark[node as usize] = true;
+                for (e, &c) in row_cols[r].iter().enumerate() {
+                    chunk.extract.push(((row_start[r] + e) as u32, c, lane));
+                }
+            }
+            for k in (n_in..self.n_nodes).rev() {
+                if mark[k] && self.active[k] {
+                    chunk.nodes.push(k as u32);
+                    for a in self.args[k - n_in] {
+                        if (a as usize) < self.n_nodes {
+                            mark[a as usize] = true;
+                        }
+                    }
+                }
+            }
+            self.jac_chunks.push(chunk);
+        }
+        self.jac_pattern = pattern;
+        self.jac_colours = n_colours;
+    }
+
+    /// Builds the Lagrangian Hessian pattern (lower triangle), the distance-2 column
+    /// colouring and the forward-over-reverse chunks.
+    pub(super) fn plan_hessian(&mut self, jset: &BitSets) {
+        let n_in = self.n_in;
+        let nl = interaction_sets(n_in, &self.ops, jset);
+        let adj: Vec<Vec<u32>> = (0..n_in)
+            .map(|i| bits(nl.row(i)).map(|j| j as u32).collect())
+            .collect();
+        let mut pattern = Pattern {
+            n_rows: n_in,
+            n_cols: n_in,
+            ..Pattern::default()
+        };
+        for (i, js) in adj.iter().enumerate() {
+            for &j in js.iter().filter(|&&j| j as usize <= i) {
+                pattern.rows.push(i as u32);
+                pattern.cols.push(j);
+            }
+        }
+        // Columns i, j conflict when some row k has H[k,i] and H[k,j] nonzero.
+        let (colour, n_colours) = greedy_colouring(&conflicts(&adj, &adj));
+        let mut fwd = vec![false; self.n_nodes];
+        let mut anc = vec![false; self.n_nodes];
+        for cols in chunks_of(&colour, n_colours) {
+            let mut chunk = HesChunk::default();
+            fwd.iter_mut().for_each(|x| *x = false);
+            anc.iter_mut().for_each(|x| *x = false);
+            for &j in &cols {
+                if adj[j as usize].is_empty() {
+                    continue;
+                }
+                chunk.seeds.push((j, colour[j as usize] % LANES as u32));
+                fwd[j as usize] = true;
+            }
+            for k in n_in..self.n_nodes {
+                let [a, b] = self.args[k - n_in];
+                let hit = |i: u32| (i as usize) < self.n_nodes && fwd[i as usize];
+                if self.active[k] && (hit(a) || hit(b)) {
+                    fwd[k] = true;
+                    chunk.fwd.push(k as u32);
+                }
+            }
+            for k in (n_in..self.n_nodes).rev() {
+                if self.active[k] && (fwd[k] || anc[k]) {
+                    chunk.rev.push(k as u32);
+                    for a in self.args[k - n_in] {
+                        if (a as usize) < self.n_nodes {
+                            anc[a as usize] = true;
+                        }
+                    }
+                }
+            }
+            self.hes_chunks.push(chunk);
+        }
+        // Extraction: entry (i, j), i >= j, read from input i in the lane of colour(j).
+        for (e, (i, j)) in pattern.iter().enumerate() {
+            let c = colour[j] as usize;
+            self.hes_chunks[c / LANES]
+                .extract
+                .push((e as u32, i as u32, (c % LANES) as u32));
+        }
+        self.hes_pattern = pattern;
+        self.hes_colours = n_colours;
+    }
+}
