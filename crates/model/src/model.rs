@@ -124,7 +124,7 @@ pub enum Function {
         /// Value at x = 0.
         intercept: f64,
     },
-    /// OpenSim `SimmSpline`: natural cubic spline through the knots `(x, y)`.
+    /// OpenSim `SimmSpline`: cubic spline through the knots `(x, y)` with Forsythe–Malcolm–Moler end conditions (not natural), linear extrapolation.
     SimmSpline {
         /// Knot abscissae (strictly increasing).
         x: Vec<f64>,
