@@ -133,7 +133,7 @@ impl PathPolynomialEval {
                     moment_arms[j] -= d * (c * e as f64);
                 }
                 if j > 0 {
-                    suffix = suffix * pow[j * stride + e];
+                    suffix *= pow[j * stride + e];
                 }
             }
         }
