@@ -1,5 +1,6 @@
 //! `stride`: predict human gait from a musculoskeletal model and a target speed.
 
+mod data_cmd;
 mod fit_cmd;
 mod model_cmd;
 
@@ -25,6 +26,9 @@ enum Command {
     /// Inspect, fit and build musculoskeletal models.
     #[command(subcommand)]
     Model(model_cmd::ModelCommand),
+    /// Manage the experimental data shipped with stride.
+    #[command(subcommand)]
+    Data(data_cmd::DataCommand),
 }
 
 fn main() {
@@ -35,6 +39,7 @@ fn main() {
             Ok(())
         }
         Command::Model(cmd) => model_cmd::run(cmd),
+        Command::Data(cmd) => data_cmd::run(cmd),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -1,1 +1,19 @@
-//! stride-ocp: Optimal control problems of gait: goals, Radau transcription, initial guesses, trajectories.
+//! stride-ocp: the optimal control problem of gait.
+//!
+//! - [`settings`]: every option of a prediction (study-file schema), paper defaults.
+//! - [`gait`]: the gait view of a model (coordinate roles, mirror maps).
+//! - [`radau`]: Radau collocation coefficients.
+//! - [`layout`]: the NLP variable layout.
+
+pub mod bounds;
+pub mod data;
+pub mod experimental;
+pub mod gait;
+pub mod guess;
+pub mod layout;
+pub mod node;
+pub mod problem;
+pub mod radau;
+pub mod settings;
+pub mod tape_node;
+pub mod transcription;

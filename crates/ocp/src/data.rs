@@ -1,0 +1,232 @@
+//! Experimental data shipped with stride (subject1 of Falisse et al. 2019, MIT licence,
+//! via 3dpredictsim): average inverse-kinematics cycles for bounds and data-informed
+//! guesses, and walking means ± SD for figures. Regenerate with
+//! `stride data import --reference <shared/reference>`, which reads the reference files
+//! with stride's own readers and writes them in stride's formats.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+use stride_model::storage::{write_atomic, Storage};
+
+const WALKING_HALF: &str = include_str!("../data/ik_walking_half_cycle.mot");
+const RUNNING_HALF: &str = include_str!("../data/ik_running_half_cycle.mot");
+const WALKING_FULL: &str = include_str!("../data/ik_walking_full_cycle.mot");
+const WALKING_MEANS: &str = include_str!("../data/experimental_walking.json");
+
+/// Names of the shipped inverse-kinematics files (same names in the reference folder
+/// `experimental/`).
+pub const IK_FILES: [&str; 3] = [
+    "ik_walking_half_cycle.mot",
+    "ik_running_half_cycle.mot",
+    "ik_walking_full_cycle.mot",
+];
+
+/// Average walking half cycle (50 samples, degrees/m): bounds and the walking guess.
+pub fn walking_half_cycle() -> Storage {
+    Storage::parse(WALKING_HALF, Path::new(IK_FILES[0])).expect("shipped file parses")
+}
+/// Average running half cycle: the running guess.
+pub fn running_half_cycle() -> Storage {
+    Storage::parse(RUNNING_HALF, Path::new(IK_FILES[1])).expect("shipped file parses")
+}
+/// Average walking full cycle: bounds and guess of full-cycle problems.
+pub fn walking_full_cycle() -> Storage {
+    Storage::parse(WALKING_FULL, Path::new(IK_FILES[2])).expect("shipped file parses")
+}
+
+/// Mean and standard deviation of one channel over a gait cycle (100 samples from right
+/// heel strike).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Channel {
+    /// Unit tag (`deg`, `Nm`, `W`, `pctBW`, ...).
+    pub unit: String,
+    /// Mean per sample.
+    pub mean: Vec<f64>,
+    /// Sample standard deviation per sample.
+    pub std: Vec<f64>,
+}
+
+/// Walking reference data of the subject (11 trials).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WalkingReference {
+    /// Quantity (`joint_angles`, `joint_torques`, `joint_powers`, `grf`, ...) → channel →
+    /// mean ± SD.
+    pub quantities: BTreeMap<String, BTreeMap<String, Channel>>,
+    /// Step width mean and SD [m].
+    pub step_width: [f64; 2],
+    /// Stride length mean and SD [m].
+    pub stride_length: [f64; 2],
+}
+
+/// The shipped walking reference data.
+pub fn walking_reference() -> WalkingReference {
+    serde_json::from_str(WALKING_MEANS).expect("shipped file parses")
+}
+
+/// Why the reference data could not be imported.
+#[derive(Debug, thiserror::Error)]
+pub enum DataError {
+    /// File missing or unreadable.
+    #[error("{path}: {reason}")]
+    Read {
+        /// File.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+    /// Unexpected content.
+    #[error("{path}, line {line}: {reason}")]
+    Format {
+        /// File.
+        path: String,
+        /// Line (1-based).
+        line: usize,
+        /// Why.
+        reason: String,
+    },
+}
+
+fn read(path: &Path) -> Result<String, DataError> {
+    std::fs::read_to_string(path).map_err(|e| DataError::Read {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })
+}
+
+/// Parse a `*_mean_std.csv` of the reference into channels.
+fn parse_mean_std(path: &Path) -> Result<BTreeMap<String, Channel>, DataError> {
+    let text = read(path)?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let mut out: BTreeMap<String, Channel> = BTreeMap::new();
+    let mut cols = Vec::new();
+    for (c, h) in header.iter().enumerate() {
+        for (tag, is_mean) in [("_mean_", true), ("_std_", false)] {
+            if let Some(p) = h.find(tag) {
+                let name = h[..p].to_string();
+                let unit = h[p + tag.len()..].to_string();
+                out.entry(name.clone()).or_insert(Channel {
+                    unit,
+                    mean: Vec::new(),
+                    std: Vec::new(),
+                });
+                cols.push((c, name, is_mean));
+            }
+        }
+    }
+    for (ln, line) in lines.enumerate() {
+        let fields: Vec<&str> = line.split(',').collect();
+        for (c, name, is_mean) in &cols {
+            let v: f64 = fields
+                .get(*c)
+                .and_then(|f| f.trim().parse().ok())
+                .ok_or_else(|| DataError::Format {
+                    path: path.display().to_string(),
+                    line: ln + 2,
+                    reason: format!("column {} is not a number", c + 1),
+                })?;
+            let ch = out.get_mut(name).expect("inserted above");
+            if *is_mean {
+                ch.mean.push(v);
+            } else {
+                ch.std.push(v);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Mean and SD rows of `walking_step_width_stride_length.csv`.
+fn parse_step_stride(path: &Path) -> Result<([f64; 2], [f64; 2]), DataError> {
+    let text = read(path)?;
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap_or("")
+        .split(',')
+        .map(|s| s.trim().to_lowercase())
+        .collect();
+    let col = |key: &str| header.iter().position(|h| h.contains(key));
+    let (sw, sl) = match (col("step_width"), col("stride_length")) {
+        (Some(a), Some(b)) => (a, b),
+        _ => {
+            return Err(DataError::Format {
+                path: path.display().to_string(),
+                line: 1,
+                reason: "expected step_width and stride_length columns".into(),
+            })
+        }
+    };
+    let mut mean = None;
+    let mut std = None;
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let key = f
+            .first()
+            .map(|s| s.trim().to_lowercase())
+            .unwrap_or_default();
+        let get = |c: usize| f.get(c).and_then(|x| x.trim().parse::<f64>().ok());
+        if key == "mean" {
+            mean = get(sw).zip(get(sl));
+        } else if key == "std" {
+            std = get(sw).zip(get(sl));
+        }
+    }
+    match (mean, std) {
+        (Some((mw, ml)), Some((sw, sl))) => Ok(([mw, sw], [ml, sl])),
+        _ => Err(DataError::Format {
+            path: path.display().to_string(),
+            line: 0,
+            reason: "missing `mean` or `std` row".into(),
+        }),
+    }
+}
+
+/// Import the reference experimental data into `out_dir` (the crate's `data/` folder).
+pub fn import_reference(reference: &Path, out_dir: &Path) -> Result<Vec<String>, DataError> {
+    let exp = reference.join("experimental");
+    let mut written = Vec::new();
+    for name in IK_FILES {
+        let path = exp.join(name);
+        let s = Storage::read(&path).map_err(|e| DataError::Read {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        let out = out_dir.join(name);
+        s.write(&out).map_err(|e| DataError::Read {
+            path: out.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        written.push(out.display().to_string());
+    }
+    let mut quantities = BTreeMap::new();
+    for q in [
+        "joint_angles",
+        "joint_velocities",
+        "joint_torques",
+        "joint_powers",
+        "grf",
+        "emg",
+    ] {
+        quantities.insert(
+            q.to_string(),
+            parse_mean_std(&exp.join(format!("walking_{q}_mean_std.csv")))?,
+        );
+    }
+    let (step_width, stride_length) =
+        parse_step_stride(&exp.join("walking_step_width_stride_length.csv"))?;
+    let reference = WalkingReference {
+        quantities,
+        step_width,
+        stride_length,
+    };
+    let out = out_dir.join("experimental_walking.json");
+    let json = serde_json::to_string(&reference).expect("serialisable");
+    write_atomic(&out, json.as_bytes()).map_err(|e| DataError::Read {
+        path: out.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    written.push(out.display().to_string());
+    Ok(written)
+}

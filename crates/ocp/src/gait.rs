@@ -1,0 +1,312 @@
+//! The gait view of a model: which coordinates are the free-floating pelvis, which are
+//! muscle-driven, which are driven by ideal arm actuators, which are locked, and how
+//! left and right map onto each other. Everything is derived from the model (joint tree,
+//! actuators, names with `_l`/`_r` suffixes, joint axes), not hard-coded to one model.
+
+use stride_model::{CoordId, JointKind, Model, MotionType};
+
+/// How a free coordinate is driven in the optimal control problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Actuation {
+    /// Coordinate of the joint between ground and the root body: residual must be zero.
+    Root,
+    /// Driven by muscles and passive joint torques.
+    Muscles,
+    /// Driven by an ideal coordinate actuator (index into `Model::actuators`).
+    Actuator(usize),
+}
+
+/// A free coordinate as the problem sees it.
+#[derive(Clone, Debug)]
+pub struct GaitCoordinate {
+    /// Index in `Model::coordinates`.
+    pub model_index: CoordId,
+    /// Coordinate name.
+    pub name: String,
+    /// How it is driven.
+    pub actuation: Actuation,
+    /// Index (in problem order) of the mirrored coordinate (itself when unsided).
+    pub mirror: usize,
+    /// +1 if the mirrored motion keeps the sign, −1 if it flips (lateral motions).
+    pub mirror_sign: f64,
+    /// Rotational (rad) or translational (m).
+    pub motion_type: MotionType,
+    /// Index in `Model::passive_torques`, if the coordinate has a passive torque.
+    pub passive: Option<usize>,
+}
+
+/// The gait view of a model (problem order of coordinates and muscles, mirror maps).
+#[derive(Clone, Debug)]
+pub struct GaitModel {
+    /// Free coordinates in problem order.
+    pub coordinates: Vec<GaitCoordinate>,
+    /// Locked coordinates and the value they are held at [rad or m].
+    pub locked: Vec<(CoordId, f64)>,
+    /// Model muscle indices in problem order (left side, right side, unsided).
+    pub muscles: Vec<usize>,
+    /// For each problem muscle, the problem index of its mirror.
+    pub muscle_mirror: Vec<usize>,
+    /// Problem index of the forward pelvis translation (along ground x).
+    pub forward_translation: usize,
+    /// Problem index of the vertical pelvis translation (along ground y).
+    pub vertical_translation: usize,
+}
+
+/// Why a model cannot be used for a gait problem.
+#[derive(Debug, thiserror::Error)]
+pub enum GaitModelError {
+    /// No joint connects the ground to a body with six degrees of freedom.
+    #[error("the model has no free-floating root joint (ground to pelvis with 3 rotations and 3 translations)")]
+    NoRoot,
+    /// A coordinate is neither the root, muscle-driven nor actuated.
+    #[error("coordinate `{0}` is free but driven by no muscle and no actuator: lock it or add an actuator")]
+    Undriven(String),
+    /// A sided name has no counterpart on the other side.
+    #[error("{kind} `{name}` has no mirror `{mirror}` on the other side")]
+    NoMirror {
+        /// "coordinate" or "muscle".
+        kind: &'static str,
+        /// The name.
+        name: String,
+        /// The expected mirror name.
+        mirror: String,
+    },
+    /// The model has no polynomial muscle geometry.
+    #[error("the model has no fitted muscle geometry (run `stride model fit`)")]
+    NoGeometry,
+    /// An unsided coordinate moves about an axis that is neither in nor normal to the sagittal plane.
+    #[error("cannot decide the left-right mirror of coordinate `{0}`: its axis is oblique to the sagittal plane")]
+    ObliqueAxis(String),
+}
+
+/// Split a name into (base, side) where side is 'l', 'r' or none.
+pub fn side_of(name: &str) -> (&str, Option<char>) {
+    if let Some(b) = name.strip_suffix("_l") {
+        (b, Some('l'))
+    } else if let Some(b) = name.strip_suffix("_r") {
+        (b, Some('r'))
+    } else {
+        (name, None)
+    }
+}
+
+/// The name of the mirror of a sided name (`x_l` ↔ `x_r`); unsided names mirror to themselves.
+pub fn mirror_name(name: &str) -> String {
+    match side_of(name) {
+        (b, Some('l')) => format!("{b}_r"),
+        (b, Some('r')) => format!("{b}_l"),
+        _ => name.to_string(),
+    }
+}
+
+impl GaitModel {
+    /// Classify the coordinates and muscles of `model`.
+    pub fn new(model: &Model) -> Result<Self, GaitModelError> {
+        let root_joint = model
+            .joints
+            .iter()
+            .position(|j| j.parent == 0 && matches!(j.kind, JointKind::Custom { .. }))
+            .ok_or(GaitModelError::NoRoot)?;
+        // Order joints by base name (first appearance), left before right (the order of
+        // the reference implementation: pelvis, hip l/r, knee l/r, ..., lumbar, arms).
+        let mut bases: Vec<&str> = Vec::new();
+        for j in &model.joints {
+            let (b, _) = side_of(&j.name);
+            if !bases.contains(&b) {
+                bases.push(b);
+            }
+        }
+        let mut joint_order = vec![root_joint];
+        for b in &bases {
+            for side in [Some('l'), Some('r'), None] {
+                for (ji, j) in model.joints.iter().enumerate() {
+                    if ji != root_joint && side_of(&j.name) == (*b, side) {
+                        joint_order.push(ji);
+                    }
+                }
+            }
+        }
+        let actuated: Vec<Option<usize>> = (0..model.coordinates.len())
+            .map(|c| model.actuators.iter().position(|a| a.coordinate == c))
+            .collect();
+        let spanned: Vec<bool> = (0..model.coordinates.len())
+            .map(|c| {
+                model
+                    .path_polynomials
+                    .iter()
+                    .flatten()
+                    .any(|p| p.coordinates.contains(&c))
+            })
+            .collect();
+        if model.path_polynomials.iter().all(|p| p.is_none()) && !model.muscles.is_empty() {
+            return Err(GaitModelError::NoGeometry);
+        }
+        let mut coordinates = Vec::new();
+        let mut locked = Vec::new();
+        for &ji in &joint_order {
+            for (ci, c) in model.coordinates.iter().enumerate() {
+                if c.joint != ji {
+                    continue;
+                }
+                if c.locked {
+                    locked.push((ci, c.default_value));
+                    continue;
+                }
+                let actuation = if ji == root_joint {
+                    Actuation::Root
+                } else if let Some(a) = actuated[ci] {
+                    Actuation::Actuator(a)
+                } else if spanned[ci] {
+                    Actuation::Muscles
+                } else {
+                    return Err(GaitModelError::Undriven(c.name.clone()));
+                };
+                coordinates.push(GaitCoordinate {
+                    model_index: ci,
+                    name: c.name.clone(),
+                    actuation,
+                    mirror: 0,
+                    mirror_sign: 1.0,
+                    motion_type: c.motion_type,
+                    passive: model
+                        .passive_torques
+                        .iter()
+                        .position(|p| p.coordinate == ci),
+                });
+            }
+        }
+        // Mirror maps.
+        for i in 0..coordinates.len() {
+            let name = coordinates[i].name.clone();
+            let mname = mirror_name(&name);
+            let m = coordinates
+                .iter()
+                .position(|c| c.name == mname)
+                .ok_or_else(|| GaitModelError::NoMirror {
+                    kind: "coordinate",
+                    name: name.clone(),
+                    mirror: mname.clone(),
+                })?;
+            coordinates[i].mirror = m;
+            if side_of(&name).1.is_none() {
+                coordinates[i].mirror_sign = unsided_mirror_sign(model, coordinates[i].model_index)
+                    .ok_or_else(|| GaitModelError::ObliqueAxis(name.clone()))?;
+            }
+        }
+        let forward_translation =
+            translation_along(model, &coordinates, 0).ok_or(GaitModelError::NoRoot)?;
+        let vertical_translation =
+            translation_along(model, &coordinates, 1).ok_or(GaitModelError::NoRoot)?;
+        // Muscles: left, right, unsided — each in model order.
+        let mut muscles = Vec::new();
+        for side in [Some('l'), Some('r'), None] {
+            for (mi, m) in model.muscles.iter().enumerate() {
+                if side_of(&m.name).1 == side {
+                    muscles.push(mi);
+                }
+            }
+        }
+        let mut muscle_mirror = Vec::with_capacity(muscles.len());
+        for &mi in &muscles {
+            let name = &model.muscles[mi].name;
+            let mname = mirror_name(name);
+            let m = muscles
+                .iter()
+                .position(|&k| model.muscles[k].name == mname)
+                .ok_or_else(|| GaitModelError::NoMirror {
+                    kind: "muscle",
+                    name: name.clone(),
+                    mirror: mname.clone(),
+                })?;
+            muscle_mirror.push(m);
+        }
+        Ok(Self {
+            coordinates,
+            locked,
+            muscles,
+            muscle_mirror,
+            forward_translation,
+            vertical_translation,
+        })
+    }
+
+    /// Number of free coordinates.
+    pub fn nq(&self) -> usize {
+        self.coordinates.len()
+    }
+    /// Number of muscles.
+    pub fn nm(&self) -> usize {
+        self.muscles.len()
+    }
+    /// Problem indices of the root (pelvis) coordinates.
+    pub fn root(&self) -> Vec<usize> {
+        self.indices(|a| a == Actuation::Root)
+    }
+    /// Problem indices of the muscle-driven coordinates.
+    pub fn muscle_driven(&self) -> Vec<usize> {
+        self.indices(|a| a == Actuation::Muscles)
+    }
+    /// Problem indices of the actuator-driven (arm) coordinates.
+    pub fn actuator_driven(&self) -> Vec<usize> {
+        self.indices(|a| matches!(a, Actuation::Actuator(_)))
+    }
+    /// Problem index of a coordinate by name.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.coordinates.iter().position(|c| c.name == name)
+    }
+    fn indices(&self, f: impl Fn(Actuation) -> bool) -> Vec<usize> {
+        (0..self.coordinates.len())
+            .filter(|&i| f(self.coordinates[i].actuation))
+            .collect()
+    }
+}
+
+/// Sign of an unsided coordinate under the sagittal-plane mirror: rotations about an axis
+/// normal to the sagittal plane (z) and translations in it keep their sign; rotations about
+/// axes in the plane and translations along z flip.
+fn unsided_mirror_sign(model: &Model, c: CoordId) -> Option<f64> {
+    let joint = &model.joints[model.coordinates[c].joint];
+    let JointKind::Custom {
+        rotations,
+        translations,
+    } = &joint.kind
+    else {
+        return None;
+    };
+    let axis_of = |axes: &[stride_model::TransformAxis; 3]| {
+        axes.iter()
+            .find(|a| a.coordinate == Some(c))
+            .map(|a| a.axis)
+    };
+    let (axis, rotational) = match axis_of(rotations) {
+        Some(a) => (a, true),
+        None => (axis_of(translations)?, false),
+    };
+    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    let z = (axis[2] / n).abs();
+    let along_z = z > 1.0 - 1e-6;
+    let in_plane = z < 1e-6;
+    match (rotational, along_z, in_plane) {
+        (true, true, _) => Some(1.0),
+        (true, _, true) => Some(-1.0),
+        (false, true, _) => Some(-1.0),
+        (false, _, true) => Some(1.0),
+        _ => None,
+    }
+}
+
+/// Problem index of the root translation along ground axis `k` (0 = x, 1 = y).
+fn translation_along(model: &Model, coords: &[GaitCoordinate], k: usize) -> Option<usize> {
+    coords.iter().position(|gc| {
+        if gc.actuation != Actuation::Root || gc.motion_type != MotionType::Translational {
+            return false;
+        }
+        let joint = &model.joints[model.coordinates[gc.model_index].joint];
+        match &joint.kind {
+            JointKind::Custom { translations, .. } => translations
+                .iter()
+                .any(|t| t.coordinate == Some(gc.model_index) && t.axis[k].abs() > 1.0 - 1e-9),
+            _ => false,
+        }
+    })
+}

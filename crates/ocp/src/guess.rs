@@ -1,0 +1,244 @@
+//! Initial guesses (FORMULATION section 10, ESM Table S1), built in physical units and
+//! then scaled. Muscle and arm parts are constant; the final mesh point is the mirror of
+//! the first; collocation points copy the mesh point that starts their interval.
+
+use crate::experimental::Kinematics;
+use crate::layout::{Layout, Point};
+use crate::problem::Scaling;
+use crate::settings::ProblemSettings;
+
+/// Which initial guess to build.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GuessKind {
+    /// Upright "sliding" posture moving at the target speed.
+    QuasiRandom,
+    /// Average experimental walking kinematics.
+    DataInformedWalking,
+    /// Average experimental running kinematics.
+    DataInformedRunning,
+}
+
+impl std::fmt::Display for GuessKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            GuessKind::QuasiRandom => "quasi-random",
+            GuessKind::DataInformedWalking => "data-informed-walking",
+            GuessKind::DataInformedRunning => "data-informed-running",
+        })
+    }
+}
+
+/// Guess of the half-cycle duration [s] at a speed [m s⁻¹]: 0.70 s at 0.73 m s⁻¹, 0.0175 s
+/// shorter per 0.1 m s⁻¹ (0.595 s at 1.33 m s⁻¹).
+pub fn duration_guess(speed: f64) -> f64 {
+    0.70 - 0.0175 * (speed - 0.73) / 0.1
+}
+
+/// Constant muscle and arm parts of every guess (activation 0.1, F̃_T 0.1, derivatives
+/// 0.01 s⁻¹, arm activation and excitation 0.1).
+#[derive(Clone, Copy, Debug)]
+pub struct MuscleGuess {
+    /// Muscle activation.
+    pub activation: f64,
+    /// Normalised tendon force.
+    pub tendon_force: f64,
+    /// Activation derivative [s⁻¹].
+    pub activation_rate: f64,
+    /// Normalised tendon-force derivative [s⁻¹].
+    pub tendon_force_rate: f64,
+    /// Arm activation and excitation.
+    pub arm: f64,
+}
+
+impl MuscleGuess {
+    /// The paper's values; the activation guess follows the co-contraction lower bound
+    /// (0.1 + a_min − 0.05 when a_min > 0.05).
+    pub fn for_settings(settings: &ProblemSettings) -> Self {
+        let activation = if settings.activation_min > 0.05 {
+            settings.activation_min + 0.05
+        } else {
+            0.1
+        };
+        Self {
+            activation,
+            tendon_force: 0.1,
+            activation_rate: 0.01,
+            tendon_force_rate: 0.01,
+            arm: 0.1,
+        }
+    }
+}
+
+/// Coordinate trajectories of a guess at mesh points 0..N−1 (physical units).
+pub struct CoordinateGuess {
+    /// Positions per mesh point.
+    pub q: Vec<Vec<f64>>,
+    /// Speeds per mesh point.
+    pub v: Vec<Vec<f64>>,
+    /// Accelerations per mesh point.
+    pub a: Vec<Vec<f64>>,
+}
+
+/// Quasi-random coordinates: all zero except forward translation spread over the distance
+/// t_f·v and vertical translation 0.9385 m; forward speed = v.
+pub fn quasi_random(
+    n: usize,
+    nq: usize,
+    tx: usize,
+    ty: usize,
+    tf: f64,
+    speed: f64,
+) -> CoordinateGuess {
+    let mut q = vec![vec![0.0; nq]; n];
+    let mut v = vec![vec![0.0; nq]; n];
+    let a = vec![vec![0.0; nq]; n];
+    for k in 0..n {
+        q[k][tx] = tf * speed * k as f64 / (n - 1) as f64;
+        q[k][ty] = 0.9385;
+        v[k][tx] = speed;
+    }
+    CoordinateGuess { q, v, a }
+}
+
+/// Data-informed coordinates: the experimental cycle resampled at N mesh points, forward
+/// translation shifted to start at 0.
+pub fn data_informed(data: &Kinematics, n: usize, tx: usize) -> CoordinateGuess {
+    let r = data.resample(n);
+    let mut q = r.q;
+    let x0 = q[0][tx];
+    q.iter_mut().for_each(|row| row[tx] -= x0);
+    CoordinateGuess { q, v: r.v, a: r.a }
+}
+
+/// Assemble the scaled NLP vector of a guess. `mirror` maps a physical state vector at the
+/// first mesh point to its mirror (used for the final mesh point of a symmetric half cycle;
+/// identity for a periodic full cycle), `tx` is the forward translation index.
+#[allow(clippy::too_many_arguments)]
+pub fn assemble(
+    layout: &Layout,
+    scaling: &Scaling,
+    coords: &CoordinateGuess,
+    muscles: &MuscleGuess,
+    tf: f64,
+    tx: usize,
+    mirror_q: &dyn Fn(&[f64]) -> Vec<f64>,
+    mirror_v: &dyn Fn(&[f64]) -> Vec<f64>,
+) -> Vec<f64> {
+    let n = layout.n;
+    let mut x = vec![0.0; layout.len()];
+    x[layout.tf()] = tf;
+    // Coordinates at mesh points 0..N-1 and the final point N.
+    let mut q_mesh = coords.q.clone();
+    let mut v_mesh = coords.v.clone();
+    let mut last_q = mirror_q(&coords.q[0]);
+    let inc = coords.q[n - 1][tx] - coords.q[n - 2][tx];
+    last_q[tx] = coords.q[n - 1][tx] + inc;
+    q_mesh.push(last_q);
+    v_mesh.push(mirror_v(&coords.v[0]));
+    let mut points: Vec<(Point, usize)> = (0..=n).map(|k| (Point::Mesh(k), k)).collect();
+    for k in 0..n {
+        for j in 1..=3 {
+            points.push((Point::Col(k, j), k));
+        }
+    }
+    for &(p, k) in &points {
+        for i in 0..layout.nq {
+            x[layout.q(p, i)] = q_mesh[k][i] / scaling.q[i];
+            x[layout.v(p, i)] = v_mesh[k][i] / scaling.v[i];
+        }
+        for m in 0..layout.nm {
+            x[layout.a(p, m)] = muscles.activation;
+            x[layout.f(p, m)] = muscles.tendon_force / scaling.tendon_force;
+        }
+        for i in 0..layout.na {
+            x[layout.arm(p, i)] = muscles.arm;
+        }
+    }
+    for k in 0..n {
+        for m in 0..layout.nm {
+            x[layout.u_da(k, m)] = muscles.activation_rate / scaling.activation_rate;
+        }
+        for i in 0..layout.na {
+            x[layout.e_arm(k, i)] = muscles.arm;
+        }
+        for j in 1..=3 {
+            for m in 0..layout.nm {
+                x[layout.u_df(k, j, m)] = muscles.tendon_force_rate / scaling.tendon_force_rate;
+            }
+            for i in 0..layout.nq {
+                x[layout.u_dv(k, j, i)] = coords.a[k][i] / scaling.a[i];
+            }
+        }
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn duration_guess_matches_the_reference_table() {
+        assert!((duration_guess(1.33) - 0.595).abs() < 1e-12);
+        assert!((duration_guess(0.73) - 0.70).abs() < 1e-12);
+        assert!((duration_guess(2.73) - 0.35).abs() < 1e-12);
+    }
+}
+
+impl crate::problem::GaitProblem {
+    /// The scaled NLP vector of an initial guess; data-informed guesses need the
+    /// experimental kinematics (`data`) of the matching gait.
+    pub fn initial_guess(
+        &self,
+        kind: GuessKind,
+        data: Option<&Kinematics>,
+    ) -> Result<Vec<f64>, GuessError> {
+        let l = &self.layout;
+        let tf = match self.settings.cycle {
+            crate::settings::CycleKind::HalfSymmetric => duration_guess(self.settings.speed),
+            crate::settings::CycleKind::FullPeriodic => 2.0 * duration_guess(self.settings.speed),
+        };
+        let tx = self.gait.forward_translation;
+        let coords = match kind {
+            GuessKind::QuasiRandom => quasi_random(
+                l.n,
+                l.nq,
+                tx,
+                self.gait.vertical_translation,
+                tf,
+                self.settings.speed,
+            ),
+            GuessKind::DataInformedWalking | GuessKind::DataInformedRunning => {
+                let data = data.ok_or(GuessError::MissingData(kind))?;
+                data_informed(data, l.n, tx)
+            }
+        };
+        let half = self.is_half_cycle();
+        let mirror_q = |q: &[f64]| {
+            if half {
+                self.mirror_coordinates(q)
+            } else {
+                q.to_vec()
+            }
+        };
+        Ok(assemble(
+            l,
+            &self.scaling,
+            &coords,
+            &MuscleGuess::for_settings(&self.settings),
+            tf,
+            tx,
+            &mirror_q,
+            &mirror_q,
+        ))
+    }
+}
+
+/// Why a guess could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum GuessError {
+    /// A data-informed guess without data.
+    #[error("the {0} guess needs experimental kinematics")]
+    MissingData(GuessKind),
+}

@@ -1,0 +1,402 @@
+//! The model function of one collocation point, generic over the scalar (FORMULATION A.1):
+//! unscale, muscle geometry, Hill model, metabolic rates, passive torques, inverse dynamics
+//! with contact, then the path constraints (8.4) and the cost integrand (8.6).
+//!
+//! One source of truth: the same generic code is recorded on a tape for the optimiser and
+//! evaluated on `f64` for post-processing.
+
+use crate::problem::{GaitProblem, ProblemError, TAU_ACTIVATION, TAU_DEACTIVATION};
+use crate::settings::MetabolicModelName;
+use crate::transcription::NodeInputs;
+use stride_ad::Scalar;
+use stride_model::BodyId;
+use stride_multibody::Data;
+use stride_muscle::activation::{ActivationDynamics, ARM_DAMPING};
+use stride_muscle::{hill_equilibrium, HillParams, MetabolicModel, MusclePaths, PathWorkspace};
+
+/// Everything the node function needs, built once per problem (immutable).
+#[derive(Clone, Debug)]
+pub struct NodeModel {
+    /// The (modified) model.
+    pub model: stride_model::Model,
+    /// Node input offsets.
+    pub inputs: NodeInputs,
+    /// Model coordinate index of each problem coordinate.
+    coord_model: Vec<usize>,
+    /// Locked model coordinates and their values.
+    locked: Vec<(usize, f64)>,
+    /// Problem indices of the root coordinates.
+    root: Vec<usize>,
+    /// Problem indices of the muscle-driven coordinates, with their passive torque element.
+    muscle_driven: Vec<(usize, Option<usize>)>,
+    /// Problem indices of the actuator-driven coordinates.
+    actuator_driven: Vec<usize>,
+    /// Per muscle-driven coordinate: (problem muscle, flat moment-arm index).
+    torque_terms: Vec<Vec<(usize, usize)>>,
+    /// Model muscle index of each problem muscle.
+    muscle_model: Vec<usize>,
+    /// Hill parameters per problem muscle.
+    hill: Vec<HillParams>,
+    /// Polynomial geometry over model coordinates, indexed by model muscle.
+    paths: MusclePaths,
+    /// Metabolic model of the cost.
+    metabolic: MetabolicModel,
+    /// Metabolic exponent p.
+    exponent: f64,
+    /// Body pairs of the distance constraints and their squared bounds [m²].
+    distances: Vec<(BodyId, BodyId, f64, f64)>,
+    /// Scale factors of q, v, qdd per problem coordinate.
+    s_q: Vec<f64>,
+    s_v: Vec<f64>,
+    s_a: Vec<f64>,
+    s_f: f64,
+    s_df: f64,
+    s_da: f64,
+    s_arm: f64,
+    /// Raw weights and body mass.
+    weights: crate::settings::Weights,
+    body_mass: f64,
+    activation: ActivationDynamics,
+}
+
+/// Number of path-constraint outputs and their order.
+#[derive(Clone, Copy, Debug)]
+pub struct NodeOutputs {
+    /// Root residuals.
+    pub root: usize,
+    /// Muscle-driven torque balances.
+    pub muscle_driven: usize,
+    /// Arm torque balances.
+    pub arms: usize,
+    /// Muscles (Hill residuals; twice that for activation constraints).
+    pub muscles: usize,
+    /// Distance constraints.
+    pub distances: usize,
+}
+
+impl NodeOutputs {
+    /// Offset of the Hill residuals.
+    pub fn hill(&self) -> usize {
+        self.root + self.muscle_driven + self.arms
+    }
+    /// Offset of the activation constraints (e ≥ 0 block, then e ≤ 1 block).
+    pub fn activation(&self) -> usize {
+        self.hill() + self.muscles
+    }
+    /// Offset of the distance constraints.
+    pub fn distance(&self) -> usize {
+        self.activation() + 2 * self.muscles
+    }
+    /// Number of path constraints.
+    pub fn n_path(&self) -> usize {
+        self.distance() + self.distances
+    }
+}
+
+/// Per-thread scratch of the node function for scalar `T` (no allocation per call).
+pub struct NodeWorkspace<T: Scalar> {
+    data: Data<T>,
+    paths: PathWorkspace<T>,
+    q: Vec<T>,
+    v: Vec<T>,
+    qdd: Vec<T>,
+    tau: Vec<T>,
+    lmt: Vec<T>,
+    vmt: Vec<T>,
+    arms: Vec<T>,
+    tendon: Vec<T>,
+}
+
+/// Metabolic model of the cost from the settings name.
+pub fn metabolic_model(name: MetabolicModelName) -> MetabolicModel {
+    match name {
+        MetabolicModelName::Bhargava2004 => MetabolicModel::Bhargava2004,
+        MetabolicModelName::Umberger2003 => MetabolicModel::Umberger2003,
+        MetabolicModelName::Umberger2010 => MetabolicModel::Umberger2010,
+        MetabolicModelName::Uchida2016 => MetabolicModel::Uchida2016,
+        MetabolicModelName::Umberger2010Hl => MetabolicModel::Umberger2010LengtheningHeat2003,
+        MetabolicModelName::Umberger2010Neg => MetabolicModel::Umberger2010NegativeWork2003,
+    }
+}
+
+impl NodeModel {
+    /// Prepare the node function of a problem.
+    pub fn new(p: &GaitProblem) -> Result<Self, ProblemError> {
+        let model = p.model.clone();
+        let g = &p.gait;
+        let inputs = NodeInputs {
+            nm: g.nm(),
+            nq: g.nq(),
+            na: g.actuator_driven().len(),
+        };
+        let paths =
+            MusclePaths::from_model(&model).map_err(|e| ProblemError::Model(e.to_string()))?;
+        let muscle_model = g.muscles.clone();
+        let mut hill = Vec::with_capacity(g.nm());
+        for &mi in &muscle_model {
+            let h = HillParams::from_muscle(&model.muscles[mi])
+                .and_then(|h| h.with_tendon_stiffness(p.settings.tendon_stiffness))
+                .map_err(|e| ProblemError::Model(e.to_string()))?;
+            hill.push(h);
+        }
+        let ocp_of_model: Vec<Option<usize>> = (0..model.muscles.len())
+            .map(|mi| muscle_model.iter().position(|&x| x == mi))
+            .collect();
+        let muscle_driven: Vec<(usize, Option<usize>)> = g
+            .muscle_driven()
+            .into_iter()
+            .map(|i| (i, g.coordinates[i].passive))
+            .collect();
+        let torque_terms = muscle_driven
+            .iter()
+            .map(|&(i, _)| {
+                let c = g.coordinates[i].model_index;
+                let mut terms = Vec::new();
+                for (mi, om) in ocp_of_model.iter().enumerate() {
+                    let poly = paths.polynomial(mi);
+                    if let (Some(om), Some(k)) =
+                        (om, poly.coordinates().iter().position(|&x| x == c))
+                    {
+                        terms.push((*om, paths.moment_arm_range(mi).start + k));
+                    }
+                }
+                terms
+            })
+            .collect();
+        let mut distances = Vec::new();
+        for d in &p.settings.min_distances {
+            let body = |n: &str| {
+                model
+                    .body_index(n)
+                    .ok_or_else(|| ProblemError::UnknownBody(n.to_string()))
+            };
+            distances.push((
+                body(&d.bodies[0])?,
+                body(&d.bodies[1])?,
+                d.min * d.min,
+                d.max * d.max,
+            ));
+        }
+        let s = &p.scaling;
+        Ok(Self {
+            inputs,
+            coord_model: g.coordinates.iter().map(|c| c.model_index).collect(),
+            locked: g.locked.clone(),
+            root: g.root(),
+            muscle_driven,
+            actuator_driven: g.actuator_driven(),
+            torque_terms,
+            muscle_model,
+            hill,
+            paths,
+            metabolic: metabolic_model(p.settings.metabolic_model),
+            exponent: p.settings.metabolic_exponent,
+            distances,
+            s_q: s.q.clone(),
+            s_v: s.v.clone(),
+            s_a: s.a.clone(),
+            s_f: s.tendon_force,
+            s_df: s.tendon_force_rate,
+            s_da: s.activation_rate,
+            s_arm: s.arm_torque,
+            weights: p.settings.weights,
+            body_mass: p.body_mass,
+            activation: ActivationDynamics {
+                tau_activation: TAU_ACTIVATION,
+                tau_deactivation: TAU_DEACTIVATION,
+            },
+            model,
+        })
+    }
+
+    /// Sizes of the path-constraint outputs.
+    pub fn outputs(&self) -> NodeOutputs {
+        NodeOutputs {
+            root: self.root.len(),
+            muscle_driven: self.muscle_driven.len(),
+            arms: self.actuator_driven.len(),
+            muscles: self.hill.len(),
+            distances: self.distances.len(),
+        }
+    }
+
+    /// Number of outputs (path constraints + cost integrand).
+    pub fn n_outputs(&self) -> usize {
+        self.outputs().n_path() + 1
+    }
+
+    /// Bounds of the path constraints.
+    pub fn constraint_bounds(&self) -> Vec<(f64, f64)> {
+        let o = self.outputs();
+        let mut b = vec![(0.0, 0.0); o.hill() + o.muscles];
+        let [[lo0, hi0], [lo1, hi1]] = self.activation.constraint_bounds();
+        b.extend(std::iter::repeat_n((lo0, hi0), o.muscles));
+        b.extend(std::iter::repeat_n((lo1, hi1), o.muscles));
+        b.extend(self.distances.iter().map(|&(_, _, lo, hi)| (lo, hi)));
+        b
+    }
+
+    /// A workspace for scalar `T`.
+    pub fn workspace<T: Scalar>(&self) -> Result<NodeWorkspace<T>, ProblemError> {
+        let nc = self.model.coordinates.len();
+        let nm = self.model.muscles.len();
+        Ok(NodeWorkspace {
+            data: Data::new(&self.model).map_err(|e| ProblemError::Model(e.to_string()))?,
+            paths: PathWorkspace::for_paths(&self.paths),
+            q: vec![T::zero(); nc],
+            v: vec![T::zero(); nc],
+            qdd: vec![T::zero(); nc],
+            tau: vec![T::zero(); nc],
+            lmt: vec![T::zero(); nm],
+            vmt: vec![T::zero(); nm],
+            arms: vec![T::zero(); self.paths.n_moment_arms()],
+            tendon: vec![T::zero(); self.hill.len()],
+        })
+    }
+
+    /// Evaluate the node function: `x` are the node inputs (scaled NLP variables), `y` the
+    /// path constraints followed by the cost integrand L.
+    pub fn eval<T: Scalar>(&self, ws: &mut NodeWorkspace<T>, x: &[T], y: &mut [T]) {
+        let io = self.inputs;
+        let o = self.outputs();
+        let nm = io.nm;
+        // Unscale into model-ordered coordinate vectors.
+        for &(c, val) in &self.locked {
+            ws.q[c] = T::cst(val);
+            ws.v[c] = T::zero();
+            ws.qdd[c] = T::zero();
+        }
+        for (i, &c) in self.coord_model.iter().enumerate() {
+            ws.q[c] = x[io.q() + i] * self.s_q[i];
+            ws.v[c] = x[io.v() + i] * self.s_v[i];
+            ws.qdd[c] = x[io.qdd() + i] * self.s_a[i];
+        }
+        // Muscle geometry (all model muscles).
+        self.paths
+            .evaluate(
+                &ws.q,
+                &ws.v,
+                &mut ws.paths,
+                &mut ws.lmt,
+                &mut ws.vmt,
+                &mut ws.arms,
+            )
+            .expect("path workspace sized at construction");
+        // Hill model, metabolic rates, activation constraints.
+        let mut sum_e = T::zero();
+        let mut sum_a2 = T::zero();
+        let mut sum_da2 = T::zero();
+        let mut sum_df2 = T::zero();
+        for m in 0..nm {
+            let mi = self.muscle_model[m];
+            let a = x[io.a() + m];
+            let ft = x[io.f() + m] * self.s_f;
+            let dft = x[io.df() + m] * self.s_df;
+            let da = x[io.da() + m] * self.s_da;
+            let h = hill_equilibrium(&self.hill[m], a, ft, dft, ws.lmt[mi], ws.vmt[mi]);
+            y[o.hill() + m] = h.residual;
+            ws.tendon[m] = h.tendon_force;
+            let [c0, c1] = self.activation.constraints(a, da);
+            y[o.activation() + m] = c0;
+            y[o.activation() + nm + m] = c1;
+            if self.weights.metabolic != 0.0 {
+                let e = self.metabolic.rate(&self.hill[m], a, &h).total;
+                sum_e += if self.exponent == self.exponent.round() {
+                    e.powi(self.exponent as i32)
+                } else {
+                    e.powf(self.exponent)
+                };
+            }
+            sum_a2 += a * a;
+            sum_da2 += x[io.da() + m].sq();
+            sum_df2 += x[io.df() + m].sq();
+        }
+        // Inverse dynamics with contact.
+        skeleton(
+            &self.model,
+            &mut ws.data,
+            &ws.q,
+            &ws.v,
+            &ws.qdd,
+            &mut ws.tau,
+        );
+        let mut out = 0;
+        for &i in &self.root {
+            y[out] = ws.tau[self.coord_model[i]];
+            out += 1;
+        }
+        let mut sum_tp2 = T::zero();
+        for (t, &(i, passive)) in self.muscle_driven.iter().enumerate() {
+            let c = self.coord_model[i];
+            let mut muscle = T::zero();
+            for &(m, arm) in &self.torque_terms[t] {
+                muscle += ws.arms[arm] * ws.tendon[m];
+            }
+            let tp = match passive {
+                Some(pi) => stride_muscle::passive::passive_torque(
+                    &self.model.passive_torques[pi],
+                    ws.q[c],
+                    ws.v[c],
+                ),
+                None => T::zero(),
+            };
+            sum_tp2 += tp * tp;
+            y[out] = ws.tau[c] - (muscle + tp);
+            out += 1;
+        }
+        let mut sum_e_arm2 = T::zero();
+        let mut sum_arm_acc2 = T::zero();
+        for (k, &i) in self.actuator_driven.iter().enumerate() {
+            let c = self.coord_model[i];
+            let tp = -ws.v[c] * ARM_DAMPING;
+            sum_tp2 += tp * tp;
+            y[out] = ws.tau[c] / self.s_arm - (x[io.arm() + k] + tp / self.s_arm);
+            out += 1;
+            sum_e_arm2 += x[io.e_arm() + k].sq();
+            sum_arm_acc2 += x[io.qdd() + i].sq();
+        }
+        // Distances between body origins in the ground x–z plane.
+        for (k, &(b0, b1, _, _)) in self.distances.iter().enumerate() {
+            let p0 = ws.data.body_origin(b0);
+            let p1 = ws.data.body_origin(b1);
+            y[o.distance() + k] = (p0[0] - p1[0]).sq() + (p0[2] - p1[2]).sq();
+        }
+        // Cost integrand (means over the elements of each norm; accelerations scaled).
+        let mut sum_acc2 = T::zero();
+        let mut n_acc = 0;
+        for &i in self
+            .root
+            .iter()
+            .chain(self.muscle_driven.iter().map(|(i, _)| i))
+        {
+            sum_acc2 += x[io.qdd() + i].sq();
+            n_acc += 1;
+        }
+        let w = &self.weights;
+        let nmf = nm as f64;
+        let na = self.actuator_driven.len().max(1) as f64;
+        let n_tp = (self.muscle_driven.len() + self.actuator_driven.len()).max(1) as f64;
+        let mut l = sum_a2 * (w.activation / nmf)
+            + sum_acc2 * (w.acceleration / n_acc.max(1) as f64)
+            + sum_tp2 * (w.passive_torque / n_tp)
+            + sum_e_arm2 * (w.arm_excitation / na)
+            + (sum_da2 / nmf + sum_df2 / nmf + sum_arm_acc2 / na) * w.slack_controls;
+        if w.metabolic != 0.0 {
+            l += sum_e * (w.metabolic / nmf / self.body_mass);
+        }
+        y[o.n_path()] = l;
+    }
+}
+
+/// Generalised forces of all model coordinates under gravity and foot contact.
+fn skeleton<T: Scalar>(
+    model: &stride_model::Model,
+    data: &mut Data<T>,
+    q: &[T],
+    v: &[T],
+    qdd: &[T],
+    tau: &mut [T],
+) {
+    stride_multibody::skeleton_dynamics(model, data, q, v, qdd, tau)
+        .expect("skeleton workspace sized at construction");
+}

@@ -1,0 +1,364 @@
+//! Problem settings: every option of a gait prediction, with defaults that reproduce the
+//! paper's nominal simulation (Falisse et al. 2019, 1.33 m s⁻¹, 50 mesh intervals, v2
+//! transcription). Read from the `[problem]` part of a study file (TOML); unknown keys are
+//! errors.
+
+use serde::{Deserialize, Serialize};
+
+/// Everything that defines one gait optimal control problem.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ProblemSettings {
+    /// Imposed average forward speed of the pelvis [m s⁻¹].
+    pub speed: f64,
+    /// Number of mesh intervals over the simulated duration (half cycle: 50 in the paper).
+    pub mesh_intervals: usize,
+    /// Simulated duration: symmetric half gait cycle or periodic full gait cycle.
+    pub cycle: CycleKind,
+    /// Cost-function weights (a goal with weight 0 is dropped).
+    pub weights: Weights,
+    /// Exponent applied to each muscle's metabolic rate in the cost (2 nominal, 1 = not squared).
+    pub metabolic_exponent: f64,
+    /// Metabolic energy model used in the cost.
+    pub metabolic_model: MetabolicModelName,
+    /// Lower bound of muscle activations (0.05 nominal; 0.1–0.2 for co-contraction).
+    pub activation_min: f64,
+    /// Maximal contraction velocity [optimal fibre lengths per second] (10 nominal).
+    pub max_contraction_velocity: f64,
+    /// Tendon stiffness k_T of the normalised tendon force–length curve (35 nominal).
+    pub tendon_stiffness: f64,
+    /// Maximal isometric force changes (weakness) applied before solving.
+    pub strength: Vec<StrengthChange>,
+    /// Bounds of the half-cycle (or cycle) duration [s]; default [0.1, 1] (half cycle).
+    pub duration_bounds: Option<[f64; 2]>,
+    /// Manual bound overrides of coordinates, applied after the data-driven bounds.
+    pub coordinate_bounds: Vec<CoordinateBound>,
+    /// Transcription variant.
+    pub transcription: TranscriptionVariant,
+    /// Minimum horizontal distances between body origins (prevent segment interpenetration).
+    pub min_distances: Vec<DistanceConstraint>,
+}
+
+/// Keep two body origins apart in the horizontal (ground x–z) plane.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DistanceConstraint {
+    /// The two bodies whose origins are kept apart.
+    pub bodies: [String; 2],
+    /// Minimum distance [m].
+    pub min: f64,
+    /// Maximum distance [m] (2 m: inactive).
+    #[serde(default = "default_max_distance")]
+    pub max: f64,
+}
+
+fn default_max_distance() -> f64 {
+    2.0
+}
+
+/// The paper's distance constraints (calcanei 9 cm, femur–hand 18 cm, tibiae 11 cm).
+pub fn paper_distances() -> Vec<DistanceConstraint> {
+    let d = |a: &str, b: &str, min: f64| DistanceConstraint {
+        bodies: [a.into(), b.into()],
+        min,
+        max: 2.0,
+    };
+    vec![
+        d("calcn_r", "calcn_l", 0.09),
+        d("femur_r", "hand_r", 0.18),
+        d("femur_l", "hand_l", 0.18),
+        d("tibia_r", "tibia_l", 0.11),
+    ]
+}
+
+impl Default for ProblemSettings {
+    /// The paper's nominal problem.
+    fn default() -> Self {
+        Self {
+            speed: 1.33,
+            mesh_intervals: 50,
+            cycle: CycleKind::HalfSymmetric,
+            weights: Weights::default(),
+            metabolic_exponent: 2.0,
+            metabolic_model: MetabolicModelName::Bhargava2004,
+            activation_min: 0.05,
+            max_contraction_velocity: 10.0,
+            tendon_stiffness: 35.0,
+            strength: Vec::new(),
+            duration_bounds: None,
+            coordinate_bounds: Vec::new(),
+            transcription: TranscriptionVariant::V2,
+            min_distances: paper_distances(),
+        }
+    }
+}
+
+/// Which part of the gait cycle is simulated and how its ends are linked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CycleKind {
+    /// Half gait cycle with left–right symmetry between start and end (paper nominal).
+    HalfSymmetric,
+    /// Full gait cycle with periodic states (asymmetric gaits, e.g. the prosthesis).
+    FullPeriodic,
+}
+
+/// Raw weights of the cost terms (each squared norm is a mean over its elements).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Weights {
+    /// Metabolic energy rate term W_E (500).
+    pub metabolic: f64,
+    /// Muscle activity term W_A (2000).
+    pub activation: f64,
+    /// Joint acceleration term W_acc of the lower limbs, pelvis and trunk (50000).
+    pub acceleration: f64,
+    /// Passive joint torque term W_pass (1000).
+    pub passive_torque: f64,
+    /// Arm excitation term W_arm (1e6).
+    pub arm_excitation: f64,
+    /// Penalty on the remaining controls W_u (0.001).
+    pub slack_controls: f64,
+}
+
+impl Default for Weights {
+    /// The paper's nominal weights.
+    fn default() -> Self {
+        Self {
+            metabolic: 500.0,
+            activation: 2000.0,
+            acceleration: 50000.0,
+            passive_torque: 1000.0,
+            arm_excitation: 1.0e6,
+            slack_controls: 0.001,
+        }
+    }
+}
+
+/// Metabolic energy models available for the cost (FORMULATION section 7).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MetabolicModelName {
+    /// Bhargava et al. 2004, smooth (nominal).
+    Bhargava2004,
+    /// Umberger et al. 2003.
+    Umberger2003,
+    /// Umberger 2010.
+    Umberger2010,
+    /// Uchida et al. 2016.
+    Uchida2016,
+    /// Umberger 2010 with the lengthening heat of 2003.
+    #[serde(rename = "umberger2010_hl")]
+    Umberger2010Hl,
+    /// Umberger 2010 with the negative work of 2003.
+    #[serde(rename = "umberger2010_neg")]
+    Umberger2010Neg,
+}
+
+/// Scale the maximal isometric force of a muscle group or of named muscles.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StrengthChange {
+    /// A predefined group (`hip`, `plantarflexors`) — both legs.
+    #[serde(default)]
+    pub group: Option<String>,
+    /// Muscles by name.
+    #[serde(default)]
+    pub muscles: Vec<String>,
+    /// Factor on the maximal isometric force (0.5 = 50% weaker).
+    pub scale: f64,
+}
+
+/// A manual bound on a coordinate's value [rad or m] (either side may be omitted).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoordinateBound {
+    /// Coordinate name.
+    pub coordinate: String,
+    /// Lower bound [rad or m].
+    #[serde(default)]
+    pub lower: Option<f64>,
+    /// Upper bound [rad or m].
+    #[serde(default)]
+    pub upper: Option<f64>,
+}
+
+/// Transcription variant of the reference implementation (FORMULATION section 14).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TranscriptionVariant {
+    /// Current reference (v2): path constraints at every collocation point, slack controls.
+    V2,
+}
+
+/// A settings value outside its allowed range.
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[error("invalid setting `{key}` = {value}: {reason}")]
+pub struct SettingsError {
+    /// Dotted key of the offending setting.
+    pub key: String,
+    /// The value as written.
+    pub value: String,
+    /// What is allowed.
+    pub reason: String,
+}
+
+fn check(ok: bool, key: &str, value: impl ToString, reason: &str) -> Result<(), SettingsError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(SettingsError {
+            key: key.into(),
+            value: value.to_string(),
+            reason: reason.into(),
+        })
+    }
+}
+
+impl ProblemSettings {
+    /// Check every value against its allowed range.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        check(
+            self.speed.is_finite() && self.speed > 0.0,
+            "speed",
+            self.speed,
+            "must be a positive speed in m/s",
+        )?;
+        check(
+            self.mesh_intervals >= 2,
+            "mesh_intervals",
+            self.mesh_intervals,
+            "must be at least 2",
+        )?;
+        check(
+            self.metabolic_exponent > 0.0 && self.metabolic_exponent.is_finite(),
+            "metabolic_exponent",
+            self.metabolic_exponent,
+            "must be positive",
+        )?;
+        check(
+            (0.0..1.0).contains(&self.activation_min),
+            "activation_min",
+            self.activation_min,
+            "must lie in [0, 1)",
+        )?;
+        check(
+            self.max_contraction_velocity > 0.0,
+            "max_contraction_velocity",
+            self.max_contraction_velocity,
+            "must be positive (optimal fibre lengths per second)",
+        )?;
+        check(
+            self.tendon_stiffness > 0.0,
+            "tendon_stiffness",
+            self.tendon_stiffness,
+            "must be positive",
+        )?;
+        let w = &self.weights;
+        for (k, v) in [
+            ("weights.metabolic", w.metabolic),
+            ("weights.activation", w.activation),
+            ("weights.acceleration", w.acceleration),
+            ("weights.passive_torque", w.passive_torque),
+            ("weights.arm_excitation", w.arm_excitation),
+            ("weights.slack_controls", w.slack_controls),
+        ] {
+            check(
+                v >= 0.0 && v.is_finite(),
+                k,
+                v,
+                "must be a finite weight ≥ 0",
+            )?;
+        }
+        if let Some([lo, hi]) = self.duration_bounds {
+            check(
+                lo > 0.0 && hi > lo,
+                "duration_bounds",
+                format!("[{lo}, {hi}]"),
+                "must satisfy 0 < lower < upper (s)",
+            )?;
+        }
+        for (i, s) in self.strength.iter().enumerate() {
+            check(
+                s.scale > 0.0 && s.scale.is_finite(),
+                &format!("strength[{i}].scale"),
+                s.scale,
+                "must be positive",
+            )?;
+            check(
+                s.group.is_some() || !s.muscles.is_empty(),
+                &format!("strength[{i}]"),
+                "{}",
+                "needs a `group` or a list of `muscles`",
+            )?;
+            if let Some(g) = &s.group {
+                check(
+                    g == "hip" || g == "plantarflexors",
+                    &format!("strength[{i}].group"),
+                    g,
+                    "known groups: hip, plantarflexors",
+                )?;
+            }
+        }
+        for (i, d) in self.min_distances.iter().enumerate() {
+            check(
+                d.min >= 0.0 && d.max > d.min,
+                &format!("min_distances[{i}]"),
+                format!("[{}, {}]", d.min, d.max),
+                "needs 0 ≤ min < max (m)",
+            )?;
+        }
+        for (i, b) in self.coordinate_bounds.iter().enumerate() {
+            if let (Some(lo), Some(hi)) = (b.lower, b.upper) {
+                check(
+                    lo <= hi,
+                    &format!("coordinate_bounds[{i}]"),
+                    format!("{} [{lo}, {hi}]", b.coordinate),
+                    "lower bound exceeds upper bound",
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Duration bounds [s] actually used (half cycle [0.1, 1], full cycle [0.6, 2]).
+    pub fn duration_bounds_or_default(&self) -> [f64; 2] {
+        self.duration_bounds.unwrap_or(match self.cycle {
+            CycleKind::HalfSymmetric => [0.1, 1.0],
+            CycleKind::FullPeriodic => [0.6, 2.0],
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_paper_nominal_case() {
+        let s = ProblemSettings::default();
+        s.validate().unwrap();
+        assert_eq!(s.speed, 1.33);
+        assert_eq!(s.mesh_intervals, 50);
+        assert_eq!(s.weights.arm_excitation, 1e6);
+    }
+
+    #[test]
+    fn unknown_keys_are_rejected_with_their_name() {
+        let e = toml::from_str::<ProblemSettings>("sped = 1.2").unwrap_err();
+        assert!(e.to_string().contains("sped"), "{e}");
+        let e = toml::from_str::<ProblemSettings>("[weights]\nmetabolik = 1").unwrap_err();
+        assert!(e.to_string().contains("metabolik"), "{e}");
+    }
+
+    #[test]
+    fn out_of_range_values_name_the_key() {
+        let s: ProblemSettings = toml::from_str("speed = -1.0").unwrap();
+        assert_eq!(s.validate().unwrap_err().key, "speed");
+        let s: ProblemSettings = toml::from_str("mesh_intervals = 0").unwrap();
+        assert_eq!(s.validate().unwrap_err().key, "mesh_intervals");
+        let s: ProblemSettings =
+            toml::from_str("[[strength]]\ngroup = \"knee\"\nscale = 0.5").unwrap();
+        assert_eq!(s.validate().unwrap_err().key, "strength[0].group");
+    }
+}

@@ -1,0 +1,87 @@
+//! The node function recorded once on a derivative tape: values, sparse Jacobian and
+//! exact sparse Hessian for the transcription.
+
+use crate::node::NodeModel;
+use crate::problem::ProblemError;
+use crate::transcription::NodeFunction;
+use std::sync::Mutex;
+use stride_ad::{Scalar, Tape, Var, Workspace};
+
+/// A [`NodeModel`] recorded on a tape.
+pub struct TapeNode {
+    tape: Tape,
+    bounds: Vec<(f64, f64)>,
+    pool: Mutex<Vec<(Workspace, Vec<f64>)>>,
+}
+
+impl TapeNode {
+    /// Record the node function at the input point `x0` (any point: the tape has no
+    /// value-dependent branches).
+    pub fn record(node: &NodeModel, x0: &[f64]) -> Result<Self, ProblemError> {
+        let mut ws = node.workspace::<Var>()?;
+        let n_out = node.n_outputs();
+        let tape = Tape::record(x0, |x| {
+            let mut y = vec![<Var as Scalar>::cst(0.0); n_out];
+            node.eval(&mut ws, x, &mut y);
+            y
+        })
+        .map_err(|e| ProblemError::Model(format!("recording the node function: {e}")))?;
+        Ok(Self {
+            tape,
+            bounds: node.constraint_bounds(),
+            pool: Mutex::new(Vec::new()),
+        })
+    }
+
+    /// The underlying tape.
+    pub fn tape(&self) -> &Tape {
+        &self.tape
+    }
+
+    /// Run `f` with a workspace and an output buffer taken from the pool (allocated only
+    /// the first time a thread needs one).
+    fn with_ws<R>(&self, f: impl FnOnce(&mut Workspace, &mut Vec<f64>) -> R) -> R {
+        let mut entry = self
+            .pool
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .pop()
+            .unwrap_or_else(|| (self.tape.workspace(), vec![0.0; self.tape.n_outputs()]));
+        let r = f(&mut entry.0, &mut entry.1);
+        self.pool
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(entry);
+        r
+    }
+}
+
+impl NodeFunction for TapeNode {
+    fn n_inputs(&self) -> usize {
+        self.tape.n_inputs()
+    }
+    fn n_outputs(&self) -> usize {
+        self.tape.n_outputs()
+    }
+    fn constraint_bounds(&self) -> Vec<(f64, f64)> {
+        self.bounds.clone()
+    }
+    fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+        self.tape.jacobian_pattern().iter().collect()
+    }
+    fn hessian_pattern(&self) -> Vec<(usize, usize)> {
+        self.tape.hessian_pattern().iter().collect()
+    }
+    fn eval(&self, x: &[f64], y: &mut [f64]) {
+        self.with_ws(|ws, _| self.tape.eval(x, ws, y))
+            .expect("tape sizes fixed at recording");
+    }
+    fn jacobian(&self, x: &[f64], y: &mut [f64], jac: &mut [f64]) {
+        self.with_ws(|ws, _| self.tape.jacobian(x, ws, y, jac))
+            .expect("tape sizes fixed at recording");
+    }
+    fn hessian(&self, x: &[f64], w: &[f64], hess: &mut [f64]) {
+        self.with_ws(|ws, y| self.tape.hessian(x, w, ws, y, hess))
+            .expect("tape sizes fixed at recording");
+    }
+}
