@@ -84,6 +84,7 @@ pub struct Joint {
 }
 
 /// How the child frame M moves relative to the parent frame F.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub enum JointKind {
     /// No relative motion.

@@ -1,1 +1,195 @@
 //! OpenSim .osim import (formats 30000 and 40000).
+//!
+//! [`load_osim`] reads a file, [`parse_osim`] a string. Bodies, joints (`CustomJoint`,
+//! `PinJoint`, `SliderJoint`, `WeldJoint`), coordinates, Hill muscles
+//! (`Thelen2003Muscle`, `Millard2012EquilibriumMuscle`) with fixed, conditional and moving
+//! path points, `CoordinateActuator`s and `SmoothSphereHalfSpaceForce` contacts are
+//! imported. Other elements carrying mechanics are listed in [`Model::unsupported`];
+//! visual and bookkeeping content is counted in one summary entry there.
+
+mod forces;
+mod functions;
+mod skeleton;
+mod xml;
+
+use crate::model::{Model, UnsupportedElement};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use xml::{child, elements, objects, tag, text, Ctx};
+
+/// Errors of the `.osim` importer; messages name the file, line and element path.
+#[derive(Debug, thiserror::Error)]
+pub enum OsimError {
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// File concerned.
+        path: PathBuf,
+        /// Underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file is not well-formed XML.
+    #[error("{source_name}:{line}:{column}: malformed XML: {message}")]
+    Xml {
+        /// File name.
+        source_name: String,
+        /// Line (1-based).
+        line: usize,
+        /// Column (1-based).
+        column: usize,
+        /// Parser message.
+        message: String,
+    },
+    /// A required value is missing or invalid.
+    #[error("{source_name}:{line}: {path}: {message}")]
+    Invalid {
+        /// File name.
+        source_name: String,
+        /// Line (1-based) of the element.
+        line: usize,
+        /// Element path, e.g. `Model/BodySet/objects/Body[name=femur_r]/mass`.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Read an OpenSim model file (`Version` 30000–4xxxx) into a [`Model`].
+pub fn load_osim(path: &Path) -> Result<Model, OsimError> {
+    let text = std::fs::read_to_string(path).map_err(|source| OsimError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_osim(&text, &path.display().to_string())
+}
+
+/// Parse the text of an OpenSim model; `source_name` labels error messages.
+pub fn parse_osim(text_in: &str, source_name: &str) -> Result<Model, OsimError> {
+    let opts = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    };
+    let doc = roxmltree::Document::parse_with_options(text_in, opts).map_err(|e| {
+        let pos = e.pos();
+        OsimError::Xml {
+            source_name: source_name.to_string(),
+            line: pos.row as usize,
+            column: pos.col as usize,
+            message: e.to_string(),
+        }
+    })?;
+    let ctx = Ctx {
+        doc: &doc,
+        source: source_name,
+    };
+    let root = doc.root_element();
+    if tag(root) != "OpenSimDocument" {
+        return Err(ctx.err(
+            root,
+            format!(
+                "root element is `{}`, expected `OpenSimDocument`",
+                tag(root)
+            ),
+        ));
+    }
+    let version: u32 = match root.attribute("Version") {
+        Some(v) => v
+            .trim()
+            .parse()
+            .map_err(|_| ctx.err(root, format!("Version attribute `{v}` is not an integer")))?,
+        None => return Err(ctx.err(root, "missing Version attribute")),
+    };
+    if version < 30000 {
+        return Err(ctx.err(
+            root,
+            format!("OpenSim file format {version} is not supported (need 30000 or later)"),
+        ));
+    }
+    let model_el = ctx.req(root, "Model")?;
+    let v4 = child(model_el, "JointSet").is_some() || version >= 40000;
+
+    let mut model = Model {
+        name: model_el.attribute("name").unwrap_or("").to_string(),
+        ..Default::default()
+    };
+    if let Some(g) = child(model_el, "gravity") {
+        model.gravity = ctx.arr_of::<3>(g)?;
+    }
+    if let Some(u) = child(model_el, "length_units") {
+        let t = text(u);
+        if !t.is_empty() && t != "meters" && t != "m" {
+            return Err(ctx.err(
+                u,
+                format!("length units `{t}` are not supported (need meters)"),
+            ));
+        }
+    }
+    let frames = skeleton::read_skeleton(&ctx, model_el, v4, &mut model)?;
+    forces::read_forces(&ctx, model_el, v4, &frames, &mut model)?;
+    report_other_content(&ctx, model_el, &mut model);
+    Ok(model)
+}
+
+/// Constraints, components and other mechanics → unsupported entries; visual and
+/// bookkeeping content → one summary entry.
+fn report_other_content(ctx: &Ctx, model_el: xml::El, model: &mut Model) {
+    let mut skipped: BTreeMap<String, usize> = BTreeMap::new();
+    for c in elements(model_el) {
+        match tag(c) {
+            "credits" | "publications" | "length_units" | "force_units" | "gravity" | "BodySet"
+            | "JointSet" | "ForceSet" | "ContactGeometrySet" | "Ground" => {}
+            "ConstraintSet" | "ComponentSet" => {
+                for o in objects(c) {
+                    forces::report(ctx, model, o, format!("{} are not supported", tag(c)));
+                }
+            }
+            "components" => {
+                for o in elements(c) {
+                    forces::report(ctx, model, o, "model components are not supported");
+                }
+            }
+            "MarkerSet" | "ControllerSet" | "ProbeSet" => {
+                for o in objects(c) {
+                    *skipped.entry(tag(o).to_string()).or_default() += 1;
+                }
+            }
+            other => {
+                *skipped.entry(other.to_string()).or_default() += 1;
+            }
+        }
+    }
+    // Visual content and wrap geometry (a wrap used by a path is reported as PathWrap).
+    for n in model_el.descendants().filter(|n| n.is_element()) {
+        let t = tag(n);
+        if matches!(
+            t,
+            "VisibleObject" | "attached_geometry" | "FrameGeometry" | "Appearance"
+        ) {
+            *skipped.entry(t.to_string()).or_default() += 1;
+        }
+        if t == "WrapObjectSet" {
+            for w in objects(n) {
+                *skipped
+                    .entry(format!(
+                        "{} (wrap geometry; its uses are listed as PathWrap)",
+                        tag(w)
+                    ))
+                    .or_default() += 1;
+            }
+        }
+    }
+    if !skipped.is_empty() {
+        let list: Vec<String> = skipped.iter().map(|(k, n)| format!("{n} {k}")).collect();
+        model.unsupported.push(UnsupportedElement {
+            element: "(visual/bookkeeping)".into(),
+            name: String::new(),
+            path: "Model".into(),
+            line: ctx.line(model_el),
+            reason: format!("skipped, no mechanics: {}", list.join(", ")),
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,358 @@
+//! Forces: muscles with their paths, coordinate actuators, smooth sphere–half-space
+//! contacts; other force elements are reported as unsupported.
+
+use super::functions::parse_function_in;
+use super::skeleton::Frames;
+use super::xml::{child, child_text, last_component, mul, name_of, objects, rot_xyz, tag, text};
+use super::xml::{Ctx, El};
+use super::OsimError;
+use crate::model::{
+    ContactParameters, ContactSphere, CoordinateActuator, Model, Muscle, MuscleKind, PathPoint,
+    PathPointKind, UnsupportedElement,
+};
+use std::collections::HashMap;
+
+/// Record an element that was not imported.
+pub(crate) fn report(ctx: &Ctx, model: &mut Model, el: El, reason: impl Into<String>) {
+    model.unsupported.push(UnsupportedElement {
+        element: tag(el).to_string(),
+        name: name_of(el).to_string(),
+        path: ctx.path(el),
+        line: ctx.line(el),
+        reason: reason.into(),
+    });
+}
+
+/// Read the `ForceSet` (and the contact geometry it references) into `model`.
+pub(crate) fn read_forces<'a, 'i>(
+    ctx: &Ctx<'a, 'i>,
+    model_el: El<'a, 'i>,
+    v4: bool,
+    frames: &Frames<'a, 'i>,
+    model: &mut Model,
+) -> Result<(), OsimError> {
+    let geometry: HashMap<&str, El> = child(model_el, "ContactGeometrySet")
+        .map(|g| objects(g).into_iter().map(|e| (name_of(e), e)).collect())
+        .unwrap_or_default();
+    let mut used_geometry: Vec<&str> = Vec::new();
+    let Some(force_set) = child(model_el, "ForceSet") else {
+        return Ok(());
+    };
+    for f in objects(force_set) {
+        let disabled = if v4 {
+            !ctx.opt_bool(f, "appliesForce", true)?
+        } else {
+            ctx.opt_bool(f, "isDisabled", false)?
+        };
+        if disabled {
+            report(ctx, model, f, "force element is disabled in the file");
+            continue;
+        }
+        match tag(f) {
+            "Thelen2003Muscle" => {
+                let m = muscle(ctx, f, MuscleKind::Thelen2003, v4, frames, model)?;
+                model.muscles.push(m);
+            }
+            "Millard2012EquilibriumMuscle" => {
+                let m = muscle(
+                    ctx,
+                    f,
+                    MuscleKind::Millard2012Equilibrium,
+                    v4,
+                    frames,
+                    model,
+                )?;
+                model.muscles.push(m);
+            }
+            "CoordinateActuator" => {
+                let cel = ctx.req(f, "coordinate")?;
+                let cname = last_component(text(cel));
+                let coordinate = model
+                    .coordinate_index(cname)
+                    .ok_or_else(|| ctx.err(cel, format!("unknown coordinate `{cname}`")))?;
+                model.actuators.push(CoordinateActuator {
+                    name: name_of(f).to_string(),
+                    coordinate,
+                    optimal_force: ctx.opt_f64(f, "optimal_force", 1.0)?,
+                    control_range: [
+                        ctx.opt_f64(f, "min_control", f64::NEG_INFINITY)?,
+                        ctx.opt_f64(f, "max_control", f64::INFINITY)?,
+                    ],
+                });
+            }
+            "SmoothSphereHalfSpaceForce" => {
+                let c = contact(ctx, f, v4, frames, &geometry, &mut used_geometry)?;
+                model.contacts.push(c);
+            }
+            other => {
+                report(
+                    ctx,
+                    model,
+                    f,
+                    format!("force type `{other}` is not supported by the importer"),
+                );
+            }
+        }
+    }
+    for (name, g) in &geometry {
+        if !used_geometry.contains(name) {
+            report(
+                ctx,
+                model,
+                *g,
+                "contact geometry not used by any SmoothSphereHalfSpaceForce",
+            );
+        }
+    }
+    Ok(())
+}
+
+/// One Hill-type muscle.
+fn muscle(
+    ctx: &Ctx,
+    f: El,
+    kind: MuscleKind,
+    v4: bool,
+    frames: &Frames,
+    model: &mut Model,
+) -> Result<Muscle, OsimError> {
+    let gp = ctx.req(f, "GeometryPath")?;
+    let pps = ctx.req(gp, "PathPointSet")?;
+    let mut path = Vec::new();
+    for p in objects(pps) {
+        path.push(path_point(ctx, p, v4, frames, model)?);
+    }
+    if path.len() < 2 {
+        return Err(ctx.err(
+            pps,
+            format!(
+                "a muscle path needs at least 2 points, found {}",
+                path.len()
+            ),
+        ));
+    }
+    if let Some(pw) = child(gp, "PathWrapSet") {
+        for w in objects(pw) {
+            let obj = child_text(w, "wrap_object").to_string();
+            report(
+                ctx,
+                model,
+                w,
+                format!("path wrapping (over `{obj}`) is ignored: the path is straight-line"),
+            );
+        }
+    }
+    let positive = |tagname: &str, v: f64| -> Result<f64, OsimError> {
+        if v > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(ctx.err(ctx.req(f, tagname)?, format!("must be positive, found {v}")))
+        }
+    };
+    Ok(Muscle {
+        name: name_of(f).to_string(),
+        kind,
+        max_isometric_force: positive(
+            "max_isometric_force",
+            ctx.req_f64(f, "max_isometric_force")?,
+        )?,
+        optimal_fiber_length: positive(
+            "optimal_fiber_length",
+            ctx.req_f64(f, "optimal_fiber_length")?,
+        )?,
+        tendon_slack_length: positive(
+            "tendon_slack_length",
+            ctx.req_f64(f, "tendon_slack_length")?,
+        )?,
+        pennation_angle_at_optimal: ctx.opt_f64(f, "pennation_angle_at_optimal", 0.0)?,
+        max_contraction_velocity: ctx.opt_f64(f, "max_contraction_velocity", 10.0)?,
+        path,
+        slow_twitch_fraction: 0.5,
+        specific_tension: 0.25e6,
+    })
+}
+
+/// Coordinate index named by element `el` (plain name or 4.x component path).
+fn coordinate_ref(ctx: &Ctx, el: El, model: &Model) -> Result<usize, OsimError> {
+    let t = text(el);
+    let name = last_component(t);
+    model
+        .coordinate_index(name)
+        .ok_or_else(|| ctx.err(el, format!("unknown coordinate `{t}`")))
+}
+
+/// One path point (fixed, conditional or moving).
+fn path_point(
+    ctx: &Ctx,
+    p: El,
+    v4: bool,
+    frames: &Frames,
+    model: &Model,
+) -> Result<PathPoint, OsimError> {
+    let body_tag = if v4 { "socket_parent_frame" } else { "body" };
+    let bel = ctx.req(p, body_tag)?;
+    let location = ctx.opt_vec3(p, "location", [0.0; 3])?;
+    let (body, off) = frames.resolve(ctx, bel, text(bel), None)?;
+    let rot = rot_xyz(off.orientation);
+    let to_body = |l: [f64; 3]| {
+        let q = mul(&rot, l);
+        [
+            off.location[0] + q[0],
+            off.location[1] + q[1],
+            off.location[2] + q[2],
+        ]
+    };
+    let offset_is_identity = off.location == [0.0; 3] && off.orientation == [0.0; 3];
+    let kind = match tag(p) {
+        "PathPoint" => PathPointKind::Fixed,
+        "ConditionalPathPoint" => {
+            let ctag = if v4 {
+                "socket_coordinate"
+            } else {
+                "coordinate"
+            };
+            let coordinate = coordinate_ref(ctx, ctx.req(p, ctag)?, model)?;
+            let range = ctx.arr_of::<2>(ctx.req(p, "range")?)?;
+            PathPointKind::Conditional { coordinate, range }
+        }
+        "MovingPathPoint" => {
+            if !offset_is_identity {
+                return Err(ctx.err(bel, "moving path points on offset frames are not supported"));
+            }
+            let mut components: [Option<(usize, crate::model::Function)>; 3] = [None, None, None];
+            for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+                let Some(fel) = child(p, &format!("{axis}_location")) else {
+                    continue;
+                };
+                let ctag = if v4 {
+                    format!("socket_{axis}_coordinate")
+                } else {
+                    format!("{axis}_coordinate")
+                };
+                let cel = ctx.req(p, &ctag)?;
+                let c = coordinate_ref(ctx, cel, model)?;
+                components[k] = Some((c, parse_function_in(ctx, fel)?));
+            }
+            PathPointKind::Moving { components }
+        }
+        other => {
+            return Err(ctx.err(
+                p,
+                format!(
+                    "unsupported path point type `{other}` (supported: PathPoint, \
+                     ConditionalPathPoint, MovingPathPoint)"
+                ),
+            ))
+        }
+    };
+    Ok(PathPoint {
+        name: name_of(p).to_string(),
+        body,
+        location: to_body(location),
+        kind,
+    })
+}
+
+/// One `SmoothSphereHalfSpaceForce` with its sphere and half-space.
+fn contact<'g>(
+    ctx: &Ctx,
+    f: El,
+    v4: bool,
+    frames: &Frames,
+    geometry: &HashMap<&'g str, El>,
+    used: &mut Vec<&'g str>,
+) -> Result<ContactSphere, OsimError> {
+    let (stag, htag) = if v4 {
+        ("socket_sphere", "socket_half_space")
+    } else {
+        ("contact_sphere", "contact_half_space")
+    };
+    let mut geom = |t: &str| -> Result<El, OsimError> {
+        let el = ctx.req(f, t)?;
+        let name = last_component(text(el));
+        let (k, g) = geometry
+            .get_key_value(name)
+            .ok_or_else(|| ctx.err(el, format!("unknown contact geometry `{}`", text(el))))?;
+        if !used.contains(k) {
+            used.push(k);
+        }
+        Ok(*g)
+    };
+    let sphere = geom(stag)?;
+    let half = geom(htag)?;
+    if tag(sphere) != "ContactSphere" {
+        return Err(ctx.err(sphere, "expected a ContactSphere"));
+    }
+    if tag(half) != "ContactHalfSpace" {
+        return Err(ctx.err(half, "expected a ContactHalfSpace"));
+    }
+    let sfel = frame_el(ctx, sphere, v4)?;
+    let (body, location) = frames.point_in_body(
+        ctx,
+        sfel,
+        text(sfel),
+        ctx.opt_vec3(sphere, "location", [0.0; 3])?,
+    )?;
+    let radius = ctx.req_f64(sphere, "radius")?;
+    if radius.is_nan() || radius <= 0.0 {
+        return Err(ctx.err(ctx.req(sphere, "radius")?, "radius must be positive"));
+    }
+    // The half-space: OpenSim's solid occupies x > 0 of its own frame, so the outward
+    // normal is −x of that frame, expressed in ground.
+    let hfel = frame_el(ctx, half, v4)?;
+    let (hbody, hoff) = frames.resolve(ctx, hfel, text(hfel), None)?;
+    if hbody != 0 {
+        return Err(ctx.err(hfel, "contact half-spaces must be fixed to the ground"));
+    }
+    let r_frame = rot_xyz(hoff.orientation);
+    let hloc = ctx.opt_vec3(half, "location", [0.0; 3])?;
+    let r_geom = rot_xyz(ctx.opt_vec3(half, "orientation", [0.0; 3])?);
+    let p = mul(&r_frame, hloc);
+    let plane_point = [
+        hoff.location[0] + p[0],
+        hoff.location[1] + p[1],
+        hoff.location[2] + p[2],
+    ];
+    let ex = mul(&r_frame, mul(&r_geom, [1.0, 0.0, 0.0]));
+    // Clean rounding noise of the trigonometric functions (e.g. cos(π/2) ≈ 6e-17).
+    let clean = |v: f64| if v.abs() < 1e-12 { 0.0 } else { -v };
+    let plane_normal = [clean(ex[0]), clean(ex[1]), clean(ex[2])];
+    let d = ContactParameters::default();
+    let parameters = ContactParameters {
+        stiffness: ctx.opt_f64(f, "stiffness", d.stiffness)?,
+        dissipation: ctx.opt_f64(f, "dissipation", d.dissipation)?,
+        static_friction: ctx.opt_f64(f, "static_friction", d.static_friction)?,
+        dynamic_friction: ctx.opt_f64(f, "dynamic_friction", d.dynamic_friction)?,
+        viscous_friction: ctx.opt_f64(f, "viscous_friction", d.viscous_friction)?,
+        transition_velocity: ctx.opt_f64(f, "transition_velocity", d.transition_velocity)?,
+        constant_contact_force: ctx.opt_f64(
+            f,
+            "constant_contact_force",
+            d.constant_contact_force,
+        )?,
+        hertz_smoothing: ctx.opt_f64(f, "hertz_smoothing", d.hertz_smoothing)?,
+        hunt_crossley_smoothing: ctx.opt_f64(
+            f,
+            "hunt_crossley_smoothing",
+            d.hunt_crossley_smoothing,
+        )?,
+    };
+    Ok(ContactSphere {
+        name: name_of(f).to_string(),
+        body,
+        location,
+        radius,
+        parameters,
+        plane_point,
+        plane_normal,
+    })
+}
+
+/// The element naming the frame of a contact geometry (`socket_frame` or `body_name`).
+fn frame_el<'a, 'i>(ctx: &Ctx, g: El<'a, 'i>, v4: bool) -> Result<El<'a, 'i>, OsimError> {
+    let t = if v4 { "socket_frame" } else { "body_name" };
+    match child(g, t).or_else(|| child(g, "body")) {
+        Some(e) => Ok(e),
+        None => Err(ctx.missing(g, t)),
+    }
+}
