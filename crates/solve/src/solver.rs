@@ -1,1 +1,237 @@
 //! The Solver trait, its options and its result type.
+//!
+//! Every backend (stride's own interior-point method, ripopt, system IPOPT) implements
+//! [`Solver`] with the same [`SolverOptions`], the same per-iteration [`IterationRecord`]s
+//! and the same [`SolveResult`], so they can be compared on the same [`Nlp`].
+
+use std::ops::ControlFlow as StdControlFlow;
+use std::time::Duration;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::nlp::{EvalError, Nlp, NlpError};
+
+/// What the observer callback tells the solver after each iteration.
+pub type ControlFlow = StdControlFlow<()>;
+
+/// How the solver obtains the Hessian of the Lagrangian.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum HessianMode {
+    /// Exact second derivatives from [`Nlp::hessian_values`].
+    Exact,
+    /// Limited-memory BFGS (compact representation) with `history` correction pairs.
+    LimitedMemory {
+        /// Number of stored correction pairs (IPOPT default 6).
+        history: usize,
+    },
+}
+
+/// How the barrier parameter μ is updated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum MuStrategy {
+    /// Fiacco–McCormick: decrease μ once the barrier subproblem is solved to κ_ε·μ.
+    Monotone,
+    /// Adaptive: choose μ every iteration from the complementarity (Mehrotra-style probing).
+    Adaptive,
+}
+
+/// Solver settings shared by all backends (defaults follow IPOPT's).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SolverOptions {
+    /// Relative convergence tolerance on the scaled NLP error (IPOPT `tol`, default 1e-8).
+    pub tol: f64,
+    /// Maximum number of iterations.
+    pub max_iter: usize,
+    /// Exact or limited-memory Hessian.
+    pub hessian: HessianMode,
+    /// Output verbosity: 0 silent, 1 summary, 2+ one line per iteration (stderr).
+    pub print_level: u32,
+    /// Wall-clock limit for the solve (None: unlimited).
+    pub time_limit: Option<Duration>,
+    /// "Acceptable" tolerance on the scaled NLP error (IPOPT default 1e-6).
+    pub acceptable_tol: f64,
+    /// Consecutive acceptable iterations that terminate with `Acceptable` (default 15).
+    pub acceptable_iter: usize,
+    /// Absolute tolerance on the unscaled constraint violation (default 1e-4).
+    pub constr_viol_tol: f64,
+    /// Absolute tolerance on the unscaled dual infeasibility (default 1).
+    pub dual_inf_tol: f64,
+    /// Absolute tolerance on the unscaled complementarity (default 1e-4).
+    pub compl_inf_tol: f64,
+    /// Barrier parameter update rule.
+    pub mu_strategy: MuStrategy,
+    /// Initial barrier parameter (default 0.1).
+    pub mu_init: f64,
+    /// Apply gradient-based NLP scaling (IPOPT default).
+    pub nlp_scaling: bool,
+    /// Largest gradient entry after scaling (IPOPT `nlp_scaling_max_gradient`, 100).
+    pub nlp_scaling_max_gradient: f64,
+    /// Bound push/frac for moving the initial point into the interior (default 1e-2).
+    pub bound_push: f64,
+    /// Threads the solver may use for its own linear algebra (0 = library default).
+    pub threads: usize,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        SolverOptions {
+            tol: 1e-8,
+            max_iter: 3000,
+            hessian: HessianMode::Exact,
+            print_level: 0,
+            time_limit: None,
+            acceptable_tol: 1e-6,
+            acceptable_iter: 15,
+            constr_viol_tol: 1e-4,
+            dual_inf_tol: 1.0,
+            compl_inf_tol: 1e-4,
+            mu_strategy: MuStrategy::Monotone,
+            mu_init: 0.1,
+            nlp_scaling: true,
+            nlp_scaling_max_gradient: 100.0,
+            bound_push: 1e-2,
+            threads: 1,
+        }
+    }
+}
+
+/// How a solve ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum SolveStatus {
+    /// Converged to `tol`.
+    Optimal,
+    /// Converged to the acceptable level `acceptable_tol` for `acceptable_iter` iterations.
+    Acceptable,
+    /// Hit `max_iter`.
+    MaxIterations,
+    /// Hit `time_limit`.
+    TimeLimit,
+    /// Converged to a point of locally minimal constraint violation that is infeasible.
+    Infeasible,
+    /// The observer asked to stop.
+    Interrupted,
+    /// The step became too small to make progress.
+    SmallStep,
+    /// Iterates diverged (|x| huge) — problem probably unbounded.
+    Diverging,
+    /// Any other failure, with a reason.
+    Failed(String),
+}
+
+impl SolveStatus {
+    /// Whether the status counts as converged (Optimal or Acceptable).
+    pub fn is_success(&self) -> bool {
+        matches!(self, SolveStatus::Optimal | SolveStatus::Acceptable)
+    }
+}
+
+/// One line of the iteration log (in the units of the unscaled problem unless noted).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct IterationRecord {
+    /// Iteration number (0 = initial point).
+    pub iter: usize,
+    /// Objective value f(x).
+    pub objective: f64,
+    /// Primal infeasibility: max constraint (incl. slack) violation.
+    pub inf_pr: f64,
+    /// Dual infeasibility: max-norm of the Lagrangian gradient (scaled problem).
+    pub inf_du: f64,
+    /// Barrier parameter μ.
+    pub mu: f64,
+    /// Max-norm of the primal step.
+    pub step_norm: f64,
+    /// Primal step length.
+    pub alpha_pr: f64,
+    /// Dual step length.
+    pub alpha_du: f64,
+    /// Hessian regularisation δ_w added for inertia correction (0 if none).
+    pub regularisation: f64,
+    /// Number of line-search trial points.
+    pub ls_trials: usize,
+    /// Wall-clock time since the solve started.
+    pub elapsed: Duration,
+}
+
+/// The outcome of a solve: the point, multipliers, statistics and timings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SolveResult {
+    /// How the solve ended.
+    pub status: SolveStatus,
+    /// Number of iterations performed.
+    pub iterations: usize,
+    /// Objective value at `x`.
+    pub objective: f64,
+    /// Max-norm of the unscaled constraint violation at `x` (bounds and constraints).
+    pub constraint_violation: f64,
+    /// Max-norm of the unscaled dual infeasibility at `x`.
+    pub dual_infeasibility: f64,
+    /// Final primal point.
+    pub x: Vec<f64>,
+    /// Constraint multipliers (IPOPT sign convention: ∇f + Jᵀλ − z_l + z_u = 0).
+    pub lambda: Vec<f64>,
+    /// Lower-bound multipliers (≥ 0).
+    pub z_l: Vec<f64>,
+    /// Upper-bound multipliers (≥ 0).
+    pub z_u: Vec<f64>,
+    /// Total wall-clock time.
+    pub time_total: Duration,
+    /// Time spent in problem function evaluations.
+    pub time_evaluations: Duration,
+    /// Time spent factorising and solving the KKT system.
+    pub time_linear_solver: Duration,
+    /// Time spent in the symbolic analysis of the KKT matrix (part of `time_linear_solver`).
+    pub time_symbolic: Duration,
+    /// Number of KKT numeric factorisations.
+    pub factorizations: usize,
+    /// Number of objective evaluations.
+    pub objective_evaluations: usize,
+    /// The iteration log.
+    pub log: Vec<IterationRecord>,
+}
+
+impl SolveResult {
+    /// Time spent in the solver itself outside evaluations and linear algebra.
+    pub fn time_other(&self) -> Duration {
+        self.time_total
+            .saturating_sub(self.time_evaluations)
+            .saturating_sub(self.time_linear_solver)
+    }
+}
+
+/// A solve that could not start or was aborted by an error (not a non-converged run, which
+/// is a [`SolveResult`] with a non-success status).
+#[derive(Debug, Clone, Error, PartialEq)]
+pub enum SolveError {
+    /// The problem definition is malformed.
+    #[error("invalid problem: {0}")]
+    InvalidProblem(#[from] NlpError),
+    /// A problem function failed at the initial point (where no recovery is possible).
+    #[error("evaluation failed at the initial point: {0}")]
+    InitialEvaluation(EvalError),
+    /// The options are inconsistent.
+    #[error("invalid option {name}: {reason}")]
+    InvalidOption {
+        /// Option name.
+        name: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The backend is unavailable or failed internally.
+    #[error("solver backend error: {0}")]
+    Backend(String),
+}
+
+/// A nonlinear-programming solver.
+pub trait Solver {
+    /// Short name of the backend (e.g. "stride-ipm").
+    fn name(&self) -> &str;
+    /// Solves `nlp`, calling `observer` after every iteration (return `Break` to stop).
+    fn solve(
+        &self,
+        nlp: &dyn Nlp,
+        options: &SolverOptions,
+        observer: &mut dyn FnMut(&IterationRecord) -> ControlFlow,
+    ) -> Result<SolveResult, SolveError>;
+}
