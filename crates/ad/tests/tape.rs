@@ -114,7 +114,7 @@ fn banded<T: Scalar>(x: &[T]) -> Vec<T> {
 fn cases() -> Vec<Case> {
     vec![
         case!("rosenbrock", 8, -1.5, 1.5, rosenbrock),
-        case!("every_method", 5, 0.5, 2.0, every_method),
+        case!("every_method", 5, 0.5, 1.4, every_method),
         case!("banded", 40, -1.0, 1.0, banded),
     ]
 }
@@ -208,9 +208,14 @@ fn jacobian_matches_finite_differences_and_pattern_is_complete() {
         let mut ws = tape.workspace();
         let mut y = vec![0.0; tape.n_outputs()];
         let mut jac = vec![0.0; pat.nnz()];
-        for _ in 0..5 {
+        for trial in 0..6 {
             let x = rng.point(c.n, c.lo, c.hi);
-            tape.jacobian(&x, &mut ws, &mut y, &mut jac).unwrap();
+            if trial % 2 == 0 {
+                tape.jacobian(&x, &mut ws, &mut y, &mut jac).unwrap();
+            } else {
+                tape.jacobian_coloured(&x, &mut ws, &mut y, &mut jac)
+                    .unwrap();
+            }
             assert_eq!(y, (c.f64f)(&x));
             let fd = fd_jacobian(c.f64f, &x);
             let mut dense = vec![vec![0.0; c.n]; y.len()];
@@ -269,10 +274,15 @@ fn hessian_matches_hyperduals_and_finite_differences() {
         let m = tape.n_outputs();
         let mut y = vec![0.0; m];
         let mut hv = vec![0.0; pat.nnz()];
-        for _ in 0..3 {
+        for trial in 0..4 {
             let x = rng.point(c.n, c.lo, c.hi);
             let lambda = rng.point(m, -2.0, 2.0);
-            tape.hessian(&x, &lambda, &mut ws, &mut y, &mut hv).unwrap();
+            if trial % 2 == 0 {
+                tape.hessian(&x, &lambda, &mut ws, &mut y, &mut hv).unwrap();
+            } else {
+                tape.hessian_coloured(&x, &lambda, &mut ws, &mut y, &mut hv)
+                    .unwrap();
+            }
             let exact = hyper_hessian(&c, &x, &lambda);
             let mut dense = vec![vec![0.0; c.n]; c.n];
             for (e, (i, j)) in pat.iter().enumerate() {
@@ -291,17 +301,17 @@ fn hessian_matches_hyperduals_and_finite_differences() {
                 for i in 0..c.n {
                     let fd = (gp[i] - gm[i]) / (2.0 * h);
                     assert!(
-                        close(dense[i][j], fd, 1e-6),
-                        "{} H[{i}][{j}] = {} vs FD {fd}",
-                        c.name,
-                        dense[i][j]
-                    );
-                    assert!(
                         close(dense[i][j], exact[i][j], 1e-10),
                         "{} H[{i}][{j}] = {} vs hyper-dual {}",
                         c.name,
                         dense[i][j],
                         exact[i][j]
+                    );
+                    assert!(
+                        close(dense[i][j], fd, 1e-6),
+                        "{} H[{i}][{j}] = {} vs FD {fd}",
+                        c.name,
+                        dense[i][j]
                     );
                     assert!(
                         close(exact[i][j], exact[j][i], 1e-12),

@@ -2,7 +2,7 @@
 //! sparsity of the Jacobian and of the Lagrangian Hessian, colouring, and the per-chunk
 //! node lists the sweeps walk.
 
-use super::op::{Curvature, Op};
+use super::op::Op;
 use super::var::Recorder;
 use super::{HesChunk, JacChunk, Tape, LANES};
 use crate::sparsity::{bits, greedy_colouring, BitSets, Pattern};
@@ -62,46 +62,6 @@ pub(super) fn index_sets(n_in: usize, ops: &[Op]) -> BitSets {
         }
     }
     j
-}
-
-/// Nonlinear interaction sets `N(i)` (symmetric): `j ∈ N(i)` when `∂²/∂xᵢ∂xⱼ` of some
-/// node may be nonzero.
-fn interaction_sets(n_in: usize, ops: &[Op], jset: &BitSets) -> BitSets {
-    let mut nl = BitSets::new(n_in, n_in);
-    let mut buf: Vec<u64> = Vec::new();
-    for op in ops {
-        let Some([a, b]) = op.diff_args() else {
-            continue;
-        };
-        let (ja, jb) = (jset.row(a as usize), jset.row(b as usize));
-        match op.curvature() {
-            Curvature::Linear => {}
-            Curvature::Unary => {
-                for i in bits(ja) {
-                    nl.union_with(i, ja);
-                }
-            }
-            Curvature::Bilinear => {
-                for i in bits(ja) {
-                    nl.union_with(i, jb);
-                }
-                for i in bits(jb) {
-                    nl.union_with(i, ja);
-                }
-            }
-            Curvature::Quotient => {
-                buf.clear();
-                buf.extend(ja.iter().zip(jb).map(|(x, y)| x | y));
-                for i in bits(jb) {
-                    nl.union_with(i, &buf);
-                }
-                for i in bits(ja) {
-                    nl.union_with(i, jb);
-                }
-            }
-        }
-    }
-    nl
 }
 
 /// Neighbour lists of a conflict graph given, for each vertex, the groups it belongs to
@@ -215,23 +175,16 @@ impl Tape {
 
     /// Builds the Lagrangian Hessian pattern (lower triangle), the distance-2 column
     /// colouring and the forward-over-reverse chunks.
-    pub(super) fn plan_hessian(&mut self, jset: &BitSets) {
+    pub(super) fn plan_hessian(&mut self, pattern: Pattern) {
         let n_in = self.n_in;
-        let nl = interaction_sets(n_in, &self.ops, jset);
-        let adj: Vec<Vec<u32>> = (0..n_in)
-            .map(|i| bits(nl.row(i)).map(|j| j as u32).collect())
-            .collect();
-        let mut pattern = Pattern {
-            n_rows: n_in,
-            n_cols: n_in,
-            ..Pattern::default()
-        };
-        for (i, js) in adj.iter().enumerate() {
-            for &j in js.iter().filter(|&&j| j as usize <= i) {
-                pattern.rows.push(i as u32);
-                pattern.cols.push(j);
+        let mut adj: Vec<Vec<u32>> = vec![Vec::new(); n_in];
+        for (i, j) in pattern.iter() {
+            adj[i].push(j as u32);
+            if i != j {
+                adj[j].push(i as u32);
             }
         }
+        adj.iter_mut().for_each(|a| a.sort_unstable());
         // Columns i, j conflict when some row k has H[k,i] and H[k,j] nonzero.
         let (colour, n_colours) = greedy_colouring(&conflicts(&adj, &adj));
         let mut fwd = vec![false; self.n_nodes];

@@ -2,7 +2,9 @@
 //! stored, and the tape then evaluates values, sparse Jacobians, gradients and exact
 //! sparse Lagrangian Hessians in `f64` into a reusable [`Workspace`], allocating nothing.
 //!
-//! Algorithms (see `docs/decisions/0001-derivatives.md`):
+//! Algorithms (see `docs/decisions/0001-derivatives.md`); the default ones propagate
+//! sparse vectors over statically known per-node index sets (module `sparse`); the
+//! coloured ones (`*_coloured`) are kept for comparison:
 //! - Jacobian: reverse vector mode, rows compressed by colouring (rows sharing no input
 //!   share a lane), `LANES` colours per sweep, each sweep restricted to the union of
 //!   the dependency cones of its rows.
@@ -12,6 +14,7 @@
 
 mod build;
 pub mod op;
+mod sparse;
 mod sweep;
 mod var;
 
@@ -72,6 +75,7 @@ pub struct Tape {
     hes_pattern: Pattern,
     hes_colours: usize,
     hes_chunks: Vec<HesChunk>,
+    sparse: sparse::SparsePlan,
 }
 
 /// Per-thread scratch memory for evaluating one [`Tape`]; reuse it across calls.
@@ -83,6 +87,8 @@ pub struct Workspace {
     abar: Vec<f64>,
     lane_a: Vec<[f64; LANES]>,
     lane_b: Vec<[f64; LANES]>,
+    grad: Vec<f64>,
+    adot: Vec<f64>,
 }
 
 /// Size statistics of a tape (for reports and benchmarks).
@@ -102,6 +108,12 @@ pub struct TapeStats {
     pub hes_nnz: usize,
     /// Colours (forward directions) of the Hessian columns.
     pub hes_colours: usize,
+    /// Stored entries of the per-node sparse gradients (forward Jacobian sweep).
+    pub grad_entries: usize,
+    /// Stored entries of the per-node second-order adjoints (Hessian sweep).
+    pub adot_entries: usize,
+    /// Stored scatter positions of both sparse sweeps.
+    pub map_entries: usize,
 }
 
 impl Tape {
@@ -159,9 +171,13 @@ impl Tape {
             hes_pattern: Pattern::default(),
             hes_colours: 0,
             hes_chunks: Vec::new(),
+            sparse: sparse::SparsePlan::default(),
         };
+        let (plan, hes_pattern) =
+            sparse::SparsePlan::new(n_in, &tape.ops, &tape.args, &tape.active, &jset);
+        tape.sparse = plan;
         tape.plan_jacobian(&jset);
-        tape.plan_hessian(&jset);
+        tape.plan_hessian(hes_pattern);
         Ok(tape)
     }
 
@@ -183,6 +199,9 @@ impl Tape {
             jac_colours: self.jac_colours,
             hes_nnz: self.hes_pattern.nnz(),
             hes_colours: self.hes_colours,
+            grad_entries: self.sparse.grad_len(),
+            adot_entries: self.sparse.adot_len(),
+            map_entries: self.sparse.map_len(),
         }
     }
     /// The recorded operations (node `n_inputs + t` is `ops()[t]`).
@@ -216,6 +235,8 @@ impl Tape {
             abar: vec![0.0; n],
             lane_a: vec![[0.0; LANES]; n],
             lane_b: vec![[0.0; LANES]; n],
+            grad: vec![0.0; self.sparse.grad_len()],
+            adot: vec![0.0; self.sparse.adot_len()],
         }
     }
 
@@ -248,6 +269,25 @@ impl Tape {
     /// Evaluates `y = f(x)` and the Jacobian values `jac` in the order of
     /// [`Tape::jacobian_pattern`].
     pub fn jacobian(
+        &self,
+        x: &[f64],
+        ws: &mut Workspace,
+        y: &mut [f64],
+        jac: &mut [f64],
+    ) -> Result<(), AdError> {
+        self.check(x, ws)?;
+        check_len("outputs y", self.outputs.len(), y.len())?;
+        check_len("Jacobian values", self.jac_pattern.nnz(), jac.len())?;
+        self.forward::<1>(x, ws);
+        self.write_outputs(ws, y);
+        self.sparse_forward(ws);
+        self.sparse_jacobian_extract(ws, jac);
+        Ok(())
+    }
+
+    /// Same result as [`Tape::jacobian`] by the alternative algorithm: reverse vector
+    /// sweeps over row colours, `LANES` at a time (kept for comparison and testing).
+    pub fn jacobian_coloured(
         &self,
         x: &[f64],
         ws: &mut Workspace,
@@ -311,6 +351,28 @@ impl Tape {
     /// Evaluates `y = f(x)` and the lower triangle of the exact Hessian of `Σ λᵢ yᵢ`,
     /// in the order of [`Tape::hessian_pattern`].
     pub fn hessian(
+        &self,
+        x: &[f64],
+        lambda: &[f64],
+        ws: &mut Workspace,
+        y: &mut [f64],
+        hes: &mut [f64],
+    ) -> Result<(), AdError> {
+        self.check(x, ws)?;
+        check_len("multipliers lambda", self.outputs.len(), lambda.len())?;
+        check_len("outputs y", self.outputs.len(), y.len())?;
+        check_len("Hessian values", self.hes_pattern.nnz(), hes.len())?;
+        self.forward::<2>(x, ws);
+        self.write_outputs(ws, y);
+        self.adjoint_sweep(ws, lambda);
+        self.sparse_forward(ws);
+        self.sparse_hessian(ws, hes);
+        Ok(())
+    }
+
+    /// Same result as [`Tape::hessian`] by the alternative algorithm: forward-over-reverse
+    /// over a distance-2 colouring of the columns, `LANES` at a time.
+    pub fn hessian_coloured(
         &self,
         x: &[f64],
         lambda: &[f64],

@@ -1,0 +1,357 @@
+//! Sparse derivative propagation over statically known per-node index sets.
+#![allow(clippy::needless_range_loop)]
+//!
+//! - Jacobian: forward mode where node `k` carries its gradient only on its input set
+//!   `P(k)` (known at record time); each operation scatters its operands' gradients
+//!   through precomputed position maps. Cost `Σₖ |P(args)|` instead of `n` per node.
+//! - Hessian of `Σ λᵢ yᵢ`: second-order adjoint `ȧₖ = ∂āₖ/∂x` carried on its static set
+//!   `R(k)` and propagated in reverse, `ȧₐ += ∂ₐφ ȧₖ + āₖ (∂²ₐₐφ ∇a + ∂²ₐᵦφ ∇b)`, using the
+//!   sparse gradients `∇a` of the forward pass. Row `i` of the Hessian is `ȧ` of input `i`.
+
+use super::op::{Curvature, Op};
+use super::Workspace;
+use crate::sparsity::{bits, BitSets, Pattern};
+
+/// Where the entries of a source index set land in a destination index set.
+#[derive(Clone, Copy, Debug, Default)]
+struct Map {
+    /// Offset of the positions in the map store (unused when `ident`).
+    off: u32,
+    /// Source and destination sets are equal: positions are the identity.
+    ident: bool,
+}
+
+/// Per-operation maps of the sparse sweeps.
+#[derive(Clone, Copy, Debug, Default)]
+struct OpMaps {
+    /// `P(a) → P(k)` and `P(b) → P(k)` (forward gradients).
+    fa: Map,
+    fb: Map,
+    /// `R(k) → R(a)`, `R(k) → R(b)` (first-order part of the second-order adjoint).
+    ra: Map,
+    rb: Map,
+    /// `P(a) → R(a)`, `P(b) → R(a)`, `P(a) → R(b)`, `P(b) → R(b)` (curvature terms).
+    pa_ra: Map,
+    pb_ra: Map,
+    pa_rb: Map,
+    pb_rb: Map,
+}
+
+/// The static index sets and maps of the sparse sweeps of one tape.
+#[derive(Clone, Debug, Default)]
+pub(super) struct SparsePlan {
+    poff: Vec<u32>,
+    pidx: Vec<u32>,
+    roff: Vec<u32>,
+    ridx: Vec<u32>,
+    maps: Vec<OpMaps>,
+    store: Vec<u32>,
+    /// `(position in ȧ store, Hessian entry)` for the lower triangle, in pattern order.
+    hes_extract: Vec<u32>,
+    curv: Vec<Curvature>,
+}
+
+fn flat(sets: &BitSets, n: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut off = Vec::with_capacity(n + 1);
+    let mut idx = Vec::new();
+    off.push(0);
+    for k in 0..n {
+        idx.extend(bits(sets.row(k)).map(|i| i as u32));
+        off.push(idx.len() as u32);
+    }
+    (off, idx)
+}
+
+fn slice<'a>(off: &[u32], idx: &'a [u32], k: usize) -> &'a [u32] {
+    if k + 1 >= off.len() {
+        &[]
+    } else {
+        &idx[off[k] as usize..off[k + 1] as usize]
+    }
+}
+
+fn map_of(src: &[u32], dst: &[u32], store: &mut Vec<u32>) -> Map {
+    if src == dst {
+        return Map {
+            off: 0,
+            ident: true,
+        };
+    }
+    let off = store.len() as u32;
+    let mut p = 0;
+    for &s in src {
+        while dst[p] != s {
+            p += 1;
+        }
+        store.push(p as u32);
+    }
+    Map { off, ident: false }
+}
+
+impl SparsePlan {
+    /// Builds the sets `P`, `R` and all maps; returns the plan and the lower-triangle
+    /// Hessian pattern it produces.
+    pub(super) fn new(
+        n_in: usize,
+        ops: &[Op],
+        args: &[[u32; 2]],
+        active: &[bool],
+        jset: &BitSets,
+    ) -> (SparsePlan, Pattern) {
+        let n = n_in + ops.len();
+        let (poff, pidx) = flat(jset, n);
+        let p = |k: u32| slice(&poff, &pidx, k as usize);
+        // R sets, reverse order; the sink (index n) has empty P and R.
+        let mut r = BitSets::new(n + 1, n_in);
+        let sink = n as u32;
+        let empty = vec![0u64; jset.row(0).len()];
+        let prow = |k: usize| if k < n { jset.row(k) } else { &empty[..] };
+        let curv: Vec<Curvature> = ops.iter().map(|o| o.curvature()).collect();
+        for t in (0..ops.len()).rev() {
+            let k = n_in + t;
+            if !active[k] {
+                continue;
+            }
+            let [a, b] = args[t];
+            let (a, b) = (a as usize, b as usize);
+            r.union_rows(a, k);
+            if b != a {
+                r.union_rows(b, k);
+            }
+            match curv[t] {
+                Curvature::Linear => {}
+                _ if a == b => r.union_with(a, prow(a)),
+                Curvature::Unary => r.union_with(a, prow(a)),
+                Curvature::Bilinear | Curvature::Quotient => {
+                    r.union_with(a, prow(b));
+                    r.union_with(b, prow(a));
+                    if curv[t] == Curvature::Quotient {
+                        r.union_with(b, prow(b));
+                    }
+                }
+            }
+        }
+        // The sink collects nothing meaningful.
+        let (roff, ridx) = flat(&r, n);
+        let rs = |k: u32| slice(&roff, &ridx, k as usize);
+        let mut store = Vec::new();
+        let mut maps = Vec::with_capacity(ops.len());
+        for t in 0..ops.len() {
+            let k = (n_in + t) as u32;
+            let mut m = OpMaps::default();
+            if active[k as usize] {
+                let [a, b] = args[t];
+                if a != sink {
+                    m.fa = map_of(p(a), p(k), &mut store);
+                    m.ra = map_of(rs(k), rs(a), &mut store);
+                    m.pa_ra = map_opt(p(a), rs(a), &mut store);
+                    m.pb_ra = map_opt(p(b), rs(a), &mut store);
+                }
+                if b != sink && b != a {
+                    m.fb = map_of(p(b), p(k), &mut store);
+                    m.rb = map_of(rs(k), rs(b), &mut store);
+                    m.pa_rb = map_opt(p(a), rs(b), &mut store);
+                    m.pb_rb = map_opt(p(b), rs(b), &mut store);
+                }
+            }
+            maps.push(m);
+        }
+        let mut pattern = Pattern {
+            n_rows: n_in,
+            n_cols: n_in,
+            ..Pattern::default()
+        };
+        let mut hes_extract = Vec::new();
+        for i in 0..n_in {
+            let row = rs(i as u32);
+            for (pos, &j) in row.iter().enumerate() {
+                if j as usize <= i {
+                    pattern.rows.push(i as u32);
+                    pattern.cols.push(j);
+                    hes_extract.push(roff[i] + pos as u32);
+                }
+            }
+        }
+        (
+            SparsePlan {
+                poff,
+                pidx,
+                roff,
+                ridx,
+                maps,
+                store,
+                hes_extract,
+                curv,
+            },
+            pattern,
+        )
+    }
+
+    /// Length of the forward gradient store.
+    pub(super) fn grad_len(&self) -> usize {
+        self.pidx.len()
+    }
+    /// Length of the second-order adjoint store.
+    pub(super) fn adot_len(&self) -> usize {
+        self.ridx.len()
+    }
+    /// Total number of stored map positions (memory report).
+    pub(super) fn map_len(&self) -> usize {
+        self.store.len()
+    }
+}
+
+/// A map only when both sets are non-empty and the source is a subset of the target.
+fn map_opt(src: &[u32], dst: &[u32], store: &mut Vec<u32>) -> Map {
+    if src.is_empty() || src.iter().any(|s| dst.binary_search(s).is_err()) {
+        Map::default()
+    } else {
+        map_of(src, dst, store)
+    }
+}
+
+#[inline]
+fn range(off: &[u32], k: usize) -> std::ops::Range<usize> {
+    off[k] as usize..off[k + 1] as usize
+}
+
+/// `dst[map[i]] += c * src[i]` (or `dst[i] += c * src[i]` for the identity).
+#[inline]
+fn axpy(dst: &mut [f64], src: &[f64], c: f64, m: Map, store: &[u32]) {
+    if m.ident {
+        for (d, s) in dst.iter_mut().zip(src) {
+            *d += c * s;
+        }
+    } else {
+        let pos = &store[m.off as usize..m.off as usize + src.len()];
+        for (&p, s) in pos.iter().zip(src) {
+            dst[p as usize] += c * s;
+        }
+    }
+}
+
+impl super::Tape {
+    /// Forward sparse gradients of every node into `ws.grad` (needs `forward::<1>`).
+    pub(super) fn sparse_forward(&self, ws: &mut Workspace) {
+        let sp = &self.sparse;
+        let n_in = self.n_in;
+        let sink = self.n_nodes as u32;
+        let g = &mut ws.grad;
+        for i in 0..n_in {
+            let r = range(&sp.poff, i);
+            if !r.is_empty() {
+                g[r.start] = 1.0;
+            }
+        }
+        for t in 0..self.ops.len() {
+            let k = n_in + t;
+            if !self.active[k] {
+                continue;
+            }
+            let [a, b] = self.args[t];
+            let [pa, pb] = ws.part[t];
+            let m = sp.maps[t];
+            let rk = range(&sp.poff, k);
+            let (lo, hi) = g.split_at_mut(rk.start);
+            let gk = &mut hi[..rk.len()];
+            gk.iter_mut().for_each(|x| *x = 0.0);
+            if a == b {
+                axpy(
+                    gk,
+                    &lo[range(&sp.poff, a as usize)],
+                    pa + pb,
+                    m.fa,
+                    &sp.store,
+                );
+                continue;
+            }
+            if a != sink {
+                axpy(gk, &lo[range(&sp.poff, a as usize)], pa, m.fa, &sp.store);
+            }
+            if b != sink {
+                axpy(gk, &lo[range(&sp.poff, b as usize)], pb, m.fb, &sp.store);
+            }
+        }
+    }
+
+    /// Copies the Jacobian rows (forward sparse gradients of the outputs).
+    pub(super) fn sparse_jacobian_extract(&self, ws: &Workspace, jac: &mut [f64]) {
+        let sp = &self.sparse;
+        let mut e = 0;
+        for &o in &self.outputs {
+            let r = range(&sp.poff, o as usize);
+            let n = r.len();
+            jac[e..e + n].copy_from_slice(&ws.grad[r]);
+            e += n;
+        }
+    }
+
+    /// Second-order adjoint sweep and Hessian extraction (needs `forward::<2>`,
+    /// `sparse_forward` and `adjoint_sweep`).
+    pub(super) fn sparse_hessian(&self, ws: &mut Workspace, hes: &mut [f64]) {
+        let sp = &self.sparse;
+        let n_in = self.n_in;
+        let sink = self.n_nodes as u32;
+        let (g, d) = (&ws.grad, &mut ws.adot);
+        for t in (0..self.ops.len()).rev() {
+            let k = n_in + t;
+            if !self.active[k] {
+                continue;
+            }
+            let [a, b] = self.args[t];
+            let [pa, pb] = ws.part[t];
+            let [saa, sab, sbb] = ws.sec[t];
+            let ak = ws.abar[k];
+            let m = sp.maps[t];
+            let rk = range(&sp.roff, k);
+            let (lo, hi) = d.split_at_mut(rk.start);
+            let dk = &mut hi[..rk.len()];
+            let curv = sp.curv[t];
+            if a == b {
+                let ga = &g[range(&sp.poff, a as usize)];
+                let da = &mut lo[range(&sp.roff, a as usize)];
+                axpy(da, dk, pa + pb, m.ra, &sp.store);
+                if curv != Curvature::Linear {
+                    axpy(da, ga, ak * (saa + 2.0 * sab + sbb), m.pa_ra, &sp.store);
+                }
+            } else {
+                let ga = if a != sink {
+                    &g[range(&sp.poff, a as usize)]
+                } else {
+                    &[][..]
+                };
+                let gb = if b != sink {
+                    &g[range(&sp.poff, b as usize)]
+                } else {
+                    &[][..]
+                };
+                if a != sink {
+                    let da = &mut lo[range(&sp.roff, a as usize)];
+                    axpy(da, dk, pa, m.ra, &sp.store);
+                    if curv != Curvature::Linear && !gb.is_empty() {
+                        axpy(da, gb, ak * sab, m.pb_ra, &sp.store);
+                    }
+                }
+                if b != sink {
+                    let db = &mut lo[range(&sp.roff, b as usize)];
+                    axpy(db, dk, pb, m.rb, &sp.store);
+                    if curv != Curvature::Linear {
+                        if !ga.is_empty() {
+                            axpy(db, ga, ak * sab, m.pa_rb, &sp.store);
+                        }
+                        if curv == Curvature::Quotient && !gb.is_empty() {
+                            axpy(db, gb, ak * sbb, m.pb_rb, &sp.store);
+                        }
+                    }
+                }
+            }
+            dk.iter_mut().for_each(|x| *x = 0.0);
+        }
+        for (h, &pos) in hes.iter_mut().zip(&sp.hes_extract) {
+            *h = d[pos as usize];
+        }
+        d[..sp.roff[n_in] as usize]
+            .iter_mut()
+            .for_each(|x| *x = 0.0);
+    }
+}
