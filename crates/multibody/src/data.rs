@@ -34,9 +34,9 @@ pub struct JointInfo {
     pub r_m_child: [[f64; 3]; 3],
     /// Origin of M in the child body frame [m].
     pub p_child_m: [f64; 3],
-    /// Rotation axes 1–3 (empty for welds).
+    /// Rotation axes 1–3 in order, without the axes fixed at zero (empty for welds).
     pub rotations: Vec<AxisInfo>,
-    /// Translation axes 1–3 (empty for welds).
+    /// Translation axes 1–3 in order, without the axes fixed at zero (empty for welds).
     pub translations: Vec<AxisInfo>,
 }
 
@@ -233,6 +233,11 @@ impl<T: Scalar> Data<T> {
                                 axis: k,
                                 source,
                             })?;
+                    // An axis with no coordinate and a zero function never moves the
+                    // child: drop it (saves the trigonometry in the hot loop).
+                    if ax.coordinate.is_none() && function.eval_f64(0.0)[0] == 0.0 {
+                        continue;
+                    }
                     let a = AxisInfo {
                         axis: [ax.axis[0] / n, ax.axis[1] / n, ax.axis[2] / n],
                         coordinate: ax.coordinate,
