@@ -10,14 +10,55 @@ use stride_model::{CoordId, Model, PathPolynomial};
 
 use crate::MuscleError;
 
-/// A validated path polynomial in evaluation-friendly (flat) layout.
+/// A validated path polynomial in evaluation-friendly (flat) layout: the length polynomial
+/// and, for each spanned coordinate, the polynomial of its moment arm, both stored as
+/// offsets into a power table so that evaluation is a sum of products.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PathPolynomialEval {
     coordinates: Vec<CoordId>,
     order: usize,
-    /// Exponents, `n_terms × n_coordinates`, row-major.
-    exponents: Vec<u8>,
+    n_terms: usize,
+    /// Monomials of `l_MT`.
+    length: Monomials,
+    /// Monomials of `r_j = −∂l_MT/∂x_j`, one set per spanned coordinate.
+    moment_arms: Vec<Monomials>,
+}
+
+/// A sum `Σ_k c_k Π_j pow[offsets[k n + j]]` over a power table laid out as
+/// `pow[j (order + 1) + e] = x_j^e`.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Monomials {
+    offsets: Vec<u16>,
     coefficients: Vec<f64>,
+}
+
+impl Monomials {
+    /// Evaluates the sum for `N` factors per term (`N` = number of spanned coordinates).
+    #[inline(always)]
+    fn eval<T: Scalar, const N: usize>(&self, pow: &[T]) -> T {
+        let mut sum = T::zero();
+        for (off, &c) in self.offsets.chunks_exact(N).zip(&self.coefficients) {
+            let mut prod = pow[off[0] as usize];
+            for &o in &off[1..N] {
+                prod *= pow[o as usize];
+            }
+            sum += prod * c;
+        }
+        sum
+    }
+
+    /// Evaluates the sum for a run-time number `n` of factors per term.
+    fn eval_dyn<T: Scalar>(&self, pow: &[T], n: usize) -> T {
+        let mut sum = T::zero();
+        for (off, &c) in self.offsets.chunks_exact(n).zip(&self.coefficients) {
+            let mut prod = pow[off[0] as usize];
+            for &o in &off[1..] {
+                prod *= pow[o as usize];
+            }
+            sum += prod * c;
+        }
+        sum
+    }
 }
 
 impl PathPolynomialEval {
@@ -41,7 +82,12 @@ impl PathPolynomialEval {
             }
         }
         let order = poly.order as usize;
-        let mut exponents = Vec::with_capacity(n * poly.exponents.len());
+        let stride = order + 1;
+        if n * stride > u16::MAX as usize {
+            return Err(err(format!(
+                "{n} coordinates of order {order} exceed the supported power-table size"
+            )));
+        }
         for (k, e) in poly.exponents.iter().enumerate() {
             if e.len() != n {
                 return Err(err(format!(
@@ -55,7 +101,6 @@ impl PathPolynomialEval {
                     "exponent tuple {k} {e:?} has total degree {total} > order {order}"
                 )));
             }
-            exponents.extend_from_slice(e);
         }
         if let Some((k, c)) = poly
             .coefficients
@@ -65,11 +110,36 @@ impl PathPolynomialEval {
         {
             return Err(err(format!("coefficient {k} is not finite ({c})")));
         }
+        let offset = |j: usize, e: u8| (j * stride + e as usize) as u16;
+        let mut length = Monomials::default();
+        let mut moment_arms = vec![Monomials::default(); n];
+        for (e, &c) in poly.exponents.iter().zip(&poly.coefficients) {
+            length
+                .offsets
+                .extend(e.iter().enumerate().map(|(j, &ej)| offset(j, ej)));
+            length.coefficients.push(c);
+            // ∂/∂x_j of c Π x_i^{e_i} is c e_j x_j^{e_j − 1} Π_{i≠j} x_i^{e_i}; terms with
+            // e_j = 0 contribute nothing and are left out.
+            for (j, arm) in moment_arms.iter_mut().enumerate() {
+                if e[j] == 0 {
+                    continue;
+                }
+                arm.offsets.extend(e.iter().enumerate().map(|(i, &ei)| {
+                    if i == j {
+                        offset(i, ei - 1)
+                    } else {
+                        offset(i, ei)
+                    }
+                }));
+                arm.coefficients.push(-c * e[j] as f64);
+            }
+        }
         Ok(Self {
             coordinates: poly.coordinates.clone(),
             order,
-            exponents,
-            coefficients: poly.coefficients.clone(),
+            n_terms: poly.coefficients.len(),
+            length,
+            moment_arms,
         })
     }
 
@@ -87,24 +157,17 @@ impl PathPolynomialEval {
     }
     /// Number of monomials.
     pub fn n_terms(&self) -> usize {
-        self.coefficients.len()
+        self.n_terms
     }
 
     /// Evaluates `l_MT` [m] and writes `r_j = −∂l_MT/∂x_j` [m] into `moment_arms` for the
-    /// local coordinate values `x` [rad]; `ws` must come from a workspace sized for this
-    /// polynomial. Slice lengths are the caller's responsibility (checked in debug builds).
+    /// local coordinate values `x` [rad], using `pow` as the power table (length at least
+    /// `n (order + 1)`). Slice lengths are the caller's responsibility.
     #[inline]
-    fn eval_local<T: Scalar>(
-        &self,
-        x: &[T],
-        pow: &mut [T],
-        prefix: &mut [T],
-        moment_arms: &mut [T],
-    ) -> T {
+    fn eval_local<T: Scalar>(&self, x: &[T], pow: &mut [T], moment_arms: &mut [T]) -> T {
         let n = self.coordinates.len();
         let stride = self.order + 1;
-        debug_assert!(x.len() == n && moment_arms.len() == n);
-        debug_assert!(pow.len() >= n * stride && prefix.len() > n);
+        debug_assert!(x.len() == n && moment_arms.len() == n && pow.len() >= n * stride);
         for (j, &xj) in x.iter().enumerate() {
             let row = &mut pow[j * stride..(j + 1) * stride];
             row[0] = T::one();
@@ -112,32 +175,26 @@ impl PathPolynomialEval {
                 row[e] = row[e - 1] * xj;
             }
         }
-        for r in moment_arms.iter_mut() {
-            *r = T::zero();
-        }
-        let mut length = T::zero();
-        for (exps, &c) in self.exponents.chunks_exact(n).zip(&self.coefficients) {
-            // prefix[j] = Π_{i<j} x_i^{e_i}
-            prefix[0] = T::one();
-            for j in 0..n {
-                prefix[j + 1] = prefix[j] * pow[j * stride + exps[j] as usize];
-            }
-            length += prefix[n] * c;
-            // Backward sweep with the suffix product Π_{i>j} x_i^{e_i}.
-            let mut suffix = T::one();
-            for j in (0..n).rev() {
-                let e = exps[j] as usize;
-                if e > 0 {
-                    let d = prefix[j] * suffix * pow[j * stride + e - 1];
-                    // moment arm is minus the derivative
-                    moment_arms[j] -= d * (c * e as f64);
+        match n {
+            1 => self.eval_n::<T, 1>(pow, moment_arms),
+            2 => self.eval_n::<T, 2>(pow, moment_arms),
+            3 => self.eval_n::<T, 3>(pow, moment_arms),
+            4 => self.eval_n::<T, 4>(pow, moment_arms),
+            _ => {
+                for (r, m) in moment_arms.iter_mut().zip(&self.moment_arms) {
+                    *r = m.eval_dyn(pow, n);
                 }
-                if j > 0 {
-                    suffix *= pow[j * stride + e];
-                }
+                self.length.eval_dyn(pow, n)
             }
         }
-        length
+    }
+
+    #[inline]
+    fn eval_n<T: Scalar, const N: usize>(&self, pow: &[T], moment_arms: &mut [T]) -> T {
+        for (r, m) in moment_arms.iter_mut().zip(&self.moment_arms) {
+            *r = m.eval::<T, N>(pow);
+        }
+        self.length.eval::<T, N>(pow)
     }
 
     /// Evaluates `l_MT` [m] and `v_MT` [m s⁻¹] from the full coordinate and speed vectors
@@ -158,8 +215,8 @@ impl PathPolynomialEval {
         for (x, &c) in ws.x.iter_mut().zip(&self.coordinates) {
             *x = q[c];
         }
-        let PathWorkspace { x, pow, prefix } = ws;
-        let l = self.eval_local(&x[..n], pow, prefix, moment_arms);
+        let PathWorkspace { x, pow } = ws;
+        let l = self.eval_local(&x[..n], pow, moment_arms);
         let mut v = T::zero();
         for (r, &c) in moment_arms.iter().zip(&self.coordinates) {
             v -= *r * qdot[c];
@@ -197,7 +254,6 @@ fn check_min(what: &'static str, expected: usize, actual: usize) -> Result<(), M
 pub struct PathWorkspace<T> {
     x: Vec<T>,
     pow: Vec<T>,
-    prefix: Vec<T>,
 }
 
 impl<T: Scalar> PathWorkspace<T> {
@@ -207,7 +263,6 @@ impl<T: Scalar> PathWorkspace<T> {
         Self {
             x: vec![T::zero(); max_coordinates],
             pow: vec![T::zero(); max_coordinates * (max_order + 1)],
-            prefix: vec![T::zero(); max_coordinates + 1],
         }
     }
     /// Workspace sized for one polynomial.
@@ -320,14 +375,14 @@ impl MusclePaths {
         check_len("muscle velocities", self.polys.len(), velocities.len())?;
         check_len("moment arms", self.n_moment_arms(), moment_arms.len())?;
         ws.ensure(self.max_coordinates, self.max_order)?;
-        let PathWorkspace { x, pow, prefix } = ws;
+        let PathWorkspace { x, pow } = ws;
         for (m, p) in self.polys.iter().enumerate() {
             let n = p.n_coordinates();
             let arms = &mut moment_arms[self.offsets[m]..self.offsets[m + 1]];
             for (xj, &c) in x.iter_mut().zip(p.coordinates()) {
                 *xj = q[c];
             }
-            lengths[m] = p.eval_local(&x[..n], pow, prefix, arms);
+            lengths[m] = p.eval_local(&x[..n], pow, arms);
             let mut v = T::zero();
             for (r, &c) in arms.iter().zip(p.coordinates()) {
                 v -= *r * qdot[c];
