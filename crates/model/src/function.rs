@@ -301,7 +301,8 @@ pub fn check_knots(x: &[f64], y: &[f64]) -> Result<(), FunctionError> {
     }
     finite(y, "spline ordinate")?;
     for i in 1..x.len() {
-        if !(x[i] > x[i - 1]) || !x[i].is_finite() || !x[i - 1].is_finite() {
+        let increasing = x[i].is_finite() && x[i - 1].is_finite() && x[i] > x[i - 1];
+        if !increasing {
             return Err(FunctionError::NotIncreasing {
                 index: i,
                 prev: x[i - 1],

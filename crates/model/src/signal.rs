@@ -53,7 +53,8 @@ impl Biquad {
     /// [Hz]: bilinear transform with frequency pre-warping (MATLAB `butter(2, fc/(fs/2))`).
     pub fn butterworth_lowpass(cutoff: f64, fs: f64) -> Result<Self, SignalError> {
         let nyquist = fs / 2.0;
-        if !(cutoff > 0.0 && cutoff < nyquist && fs.is_finite()) {
+        let valid = cutoff > 0.0 && cutoff < nyquist && fs.is_finite();
+        if !valid {
             return Err(SignalError::BadCutoff {
                 cutoff,
                 fs,

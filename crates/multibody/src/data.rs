@@ -215,7 +215,7 @@ impl<T: Scalar> Data<T> {
                         reason,
                     };
                     let n = norm3(ax.axis);
-                    if !(n > 1e-12) || !n.is_finite() {
+                    if !(n.is_finite() && n > 1e-12) {
                         return Err(bad(format!("axis {:?} has no direction", ax.axis)));
                     }
                     if let Some(c) = ax.coordinate {
@@ -271,13 +271,13 @@ impl<T: Scalar> Data<T> {
                 return Err(bad(format!("body index {} is not a moving body", s.body)));
             }
             let n = norm3(s.plane_normal);
-            if !(n > 1e-12) || !n.is_finite() {
+            if !(n.is_finite() && n > 1e-12) {
                 return Err(bad(format!(
                     "plane normal {:?} has no direction",
                     s.plane_normal
                 )));
             }
-            if !(s.radius >= 0.0) {
+            if !(s.radius.is_finite() && s.radius >= 0.0) {
                 return Err(bad(format!("radius {} is negative", s.radius)));
             }
             sphere_normal.push([

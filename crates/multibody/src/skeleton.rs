@@ -90,7 +90,7 @@ pub fn center_of_pressure(
     min_normal_force: f64,
 ) -> Option<([f64; 3], f64)> {
     let fn_ = force[0] * normal[0] + force[1] * normal[1] + force[2] * normal[2];
-    if !(fn_.abs() > min_normal_force) {
+    if fn_.abs().is_nan() || fn_.abs() <= min_normal_force {
         return None;
     }
     // Moment about the plane point.
