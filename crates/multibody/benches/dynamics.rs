@@ -9,19 +9,32 @@ use std::time::Instant;
 
 use stride_multibody::*;
 
-fn time_per_call(mut f: impl FnMut(), min_seconds: f64) -> f64 {
+/// CPU time of this thread [s] from /proc (insensitive to other processes' load), if available.
+fn thread_cpu_time() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+/// Wall-clock and on-CPU time per call [s].
+fn time_per_call(mut f: impl FnMut(), min_seconds: f64) -> (f64, f64) {
     for _ in 0..1000 {
         f();
     }
     let mut n = 1000u64;
     loop {
         let t0 = Instant::now();
+        let c0 = thread_cpu_time();
         for _ in 0..n {
             f();
         }
         let dt = t0.elapsed().as_secs_f64();
+        let dc = match (c0, thread_cpu_time()) {
+            (Some(a), Some(b)) => b - a,
+            _ => f64::NAN,
+        };
         if dt > min_seconds {
-            return dt / n as f64;
+            return (dt / n as f64, dc / n as f64);
         }
         n *= 4;
     }
@@ -43,8 +56,8 @@ fn main() {
         "stride-multibody dynamics benchmark: {n} coordinates, {} spheres, f64",
         model.contacts.len()
     );
-    println!("{:<40} {:>12}", "function", "time/call");
-    let rows: Vec<(&str, f64)> = vec![
+    println!("{:<40} {:>12} {:>12}", "function", "wall/call", "cpu/call");
+    let rows: Vec<(&str, (f64, f64))> = vec![
         (
             "forward_kinematics (q, v)",
             time_per_call(
@@ -87,7 +100,7 @@ fn main() {
             ),
         ),
     ];
-    for (name, t) in rows {
-        println!("{name:<40} {:>9.3} µs", t * 1e6);
+    for (name, (w, c)) in rows {
+        println!("{name:<40} {:>9.3} µs {:>9.3} µs", w * 1e6, c * 1e6);
     }
 }

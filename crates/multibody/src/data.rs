@@ -34,6 +34,10 @@ pub struct JointInfo {
     pub r_m_child: [[f64; 3]; 3],
     /// Origin of M in the child body frame [m].
     pub p_child_m: [f64; 3],
+    /// F has zero orientation in the parent (skip a matrix product).
+    pub parent_f_identity: bool,
+    /// M has zero orientation in the child (skip a matrix product).
+    pub child_m_identity: bool,
     /// Rotation axes 1–3 in order, without the axes fixed at zero (empty for welds).
     pub rotations: Vec<AxisInfo>,
     /// Translation axes 1–3 in order, without the axes fixed at zero (empty for welds).
@@ -200,6 +204,8 @@ impl<T: Scalar> Data<T> {
                 p_parent_f: j.frame_in_parent.location,
                 r_m_child: transpose_f(&body_fixed_xyz(j.frame_in_child.orientation)),
                 p_child_m: j.frame_in_child.location,
+                parent_f_identity: j.frame_in_parent.orientation == [0.0; 3],
+                child_m_identity: j.frame_in_child.orientation == [0.0; 3],
                 rotations: Vec::new(),
                 translations: Vec::new(),
             };

@@ -66,7 +66,11 @@ pub(crate) fn kinematics_pass<T: Scalar>(data: &mut Data<T>, q: &[T], v: &[T], q
         let a_p = data.linear_acceleration[p];
         let info = &data.joints[j];
         // Joint frame F in ground.
-        let r_gf: Mat3<T> = mat_mul_f(&r_gp, &info.r_parent_f);
+        let r_gf: Mat3<T> = if info.parent_f_identity {
+            r_gp
+        } else {
+            mat_mul_f(&r_gp, &info.r_parent_f)
+        };
         let o_f = add(r_p, mat_vec_f(&r_gp, info.p_parent_f));
         let d1 = sub(o_f, r_p);
 
@@ -108,7 +112,11 @@ pub(crate) fn kinematics_pass<T: Scalar>(data: &mut Data<T>, q: &[T], v: &[T], q
             df[3 + k] = [d1f, d2f];
         }
         let o_m = add(o_f, u);
-        let r_gc = mat_mul_f(&r_gm, &info.r_m_child);
+        let r_gc = if info.child_m_identity {
+            r_gm
+        } else {
+            mat_mul_f(&r_gm, &info.r_m_child)
+        };
         let r_c = sub(o_m, mat_vec_f(&r_gc, info.p_child_m));
         let d2 = sub(r_c, o_m);
 

@@ -210,3 +210,24 @@ fn bad_sizes_are_errors() {
         Err(MultibodyError::Topology { .. })
     ));
 }
+
+#[test]
+fn center_of_pressure_recovers_point_and_free_moment() {
+    // Force F at P = (0.3, 0, −0.1) on the ground plane plus free moment 2 N m about +y.
+    let f = [30.0, 600.0, -12.0];
+    let p = [0.3, 0.0, -0.1];
+    let m = [
+        p[1] * f[2] - p[2] * f[1],
+        p[2] * f[0] - p[0] * f[2],
+        p[0] * f[1] - p[1] * f[0] + 0.0,
+    ];
+    let m = [m[0], m[1] + 2.0, m[2]];
+    let (cop, free) = center_of_pressure(f, m, [0.0; 3], [0.0, 1.0, 0.0], 1.0).unwrap();
+    for k in 0..3 {
+        assert!((cop[k] - p[k]).abs() < 1e-12);
+    }
+    assert!((free - 2.0).abs() < 1e-12);
+    assert!(
+        center_of_pressure([0.0, 0.5, 0.0], [0.0; 3], [0.0; 3], [0.0, 1.0, 0.0], 1.0).is_none()
+    );
+}

@@ -2,6 +2,8 @@
 //! finite differences; a joint whose translations are a SimmSpline and a polynomial of
 //! the coordinate (chain rule through f', f'') is consistent with its Lagrangian.
 
+#![allow(clippy::needless_range_loop)]
+
 mod common;
 
 use stride_ad::Dual;
