@@ -189,3 +189,110 @@ fn spline_driven_joint_is_lagrangian() {
         );
     }
 }
+
+/// Inputs `[q, v, a]` of the subject model at a pose parameterised by `s`.
+fn pose(model: &Model, s: f64, h: f64) -> Vec<f64> {
+    let n = model.coordinates.len();
+    let mut x = vec![0.0; 3 * n];
+    for i in 0..n {
+        x[i] = 0.03 * ((i as f64) * 0.9 + s).sin();
+        x[n + i] = 0.2 * ((i as f64) * 1.7 + s).cos();
+        x[2 * n + i] = 2.0 * ((i as f64) * 0.3 - s).sin();
+    }
+    x[model.coordinate_index("pelvis_ty").unwrap()] = h;
+    x
+}
+
+#[test]
+fn tape_recorded_once_is_valid_at_other_contact_states() {
+    use stride_ad::{Scalar, Tape, Var};
+    let Some(model) = common::subject_model(false) else {
+        return;
+    };
+    let n = model.coordinates.len();
+    let n_out = n + 6;
+    let run = |x: &[Var]| -> Vec<Var> {
+        let mut data = Data::<Var>::new(&model).unwrap();
+        let mut out = SkeletonOutput::new(&model, &data);
+        skeleton_dynamics(
+            &model,
+            &mut data,
+            &x[..n],
+            &x[n..2 * n],
+            &x[2 * n..],
+            &mut out,
+        )
+        .unwrap();
+        let mut y = out.tau.clone();
+        for g in &out.group_force {
+            y.extend_from_slice(g);
+        }
+        y
+    };
+    // Record with the feet in the air; evaluate standing and sliding.
+    let tape = Tape::record(&pose(&model, 0.0, 1.2), run).unwrap();
+    let mut ws = tape.workspace();
+    let mut y = vec![0.0; n_out];
+    let mut data = Data::<f64>::new(&model).unwrap();
+    let mut out = SkeletonOutput::new(&model, &data);
+    for (s, h) in [(0.3, 0.955), (1.1, 0.95), (2.0, 0.97)] {
+        let x = pose(&model, s, h);
+        tape.eval(&x, &mut ws, &mut y).unwrap();
+        skeleton_dynamics(
+            &model,
+            &mut data,
+            &x[..n],
+            &x[n..2 * n],
+            &x[2 * n..],
+            &mut out,
+        )
+        .unwrap();
+        let fy = out.group_force[0][1] + out.group_force[1][1];
+        assert!(fy > 10.0, "pose {s}: contact inactive ({fy} N)");
+        for i in 0..n {
+            assert!(
+                (y[i] - out.tau[i]).abs() <= 1e-9 * (1.0 + out.tau[i].abs()),
+                "tau[{i}]"
+            );
+        }
+        for g in 0..2 {
+            for c in 0..3 {
+                let r = out.group_force[g][c];
+                assert!((y[n + 3 * g + c] - r).abs() <= 1e-9 * (1.0 + r.abs()));
+            }
+        }
+    }
+    let _ = Var::cst(0.0);
+}
+
+#[test]
+fn tape_follows_spline_segments() {
+    use stride_ad::{Tape, Var};
+    let model = spline_joint_model();
+    let run = |x: &[Var]| -> Vec<Var> {
+        let mut data = Data::<Var>::new(&model).unwrap();
+        let mut tau = vec![x[0]];
+        inverse_dynamics(&model, &mut data, &x[..1], &x[1..2], &x[2..], &mut tau).unwrap();
+        tau
+    };
+    let tape = Tape::record(&[-1.5, 0.7, 1.0], run).unwrap();
+    let mut ws = tape.workspace();
+    let mut data = Data::<f64>::new(&model).unwrap();
+    for &(q, v, a) in &[
+        (-0.5, 1.0, 2.0),
+        (0.7, -2.0, 0.3),
+        (1.6, 0.4, -1.0),
+        (2.5, 1.0, 1.0),
+    ] {
+        let mut y = [0.0];
+        tape.eval(&[q, v, a], &mut ws, &mut y).unwrap();
+        let mut tau = [0.0];
+        inverse_dynamics(&model, &mut data, &[q], &[v], &[a], &mut tau).unwrap();
+        assert!(
+            (y[0] - tau[0]).abs() <= 1e-12 * (1.0 + tau[0].abs()),
+            "q = {q}: {} vs {}",
+            y[0],
+            tau[0]
+        );
+    }
+}
