@@ -64,9 +64,25 @@ fn rel_err(a: &[f64], b: &[f64]) -> f64 {
 
 #[test]
 fn lagrangian_consistency_subject_model() {
-    let Some(mut model) = common::subject_model(false) else {
+    let Some(model) = common::subject_model(false) else {
         return;
     };
+    check_lagrangian(model);
+}
+
+#[test]
+fn lagrangian_consistency_imported_osim_model() {
+    let Some(root) = common::shared() else {
+        return;
+    };
+    let path = root.join("reference/models/subject1_v2.osim");
+    match stride_model::osim::load_osim(&path) {
+        Ok(model) => check_lagrangian(model),
+        Err(e) => eprintln!("skipping: cannot load {}: {e}", path.display()),
+    }
+}
+
+fn check_lagrangian(mut model: Model) {
     model.contacts.clear();
     let n = model.coordinates.len();
     assert_eq!(n, 31);
