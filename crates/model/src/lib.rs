@@ -8,9 +8,11 @@
 //! - [`function`]: coordinate functions (linear, splines, ...) generic over the scalar.
 //! - [`reference`]: loaders of the paper's reference tables.
 //! - [`default_model`]: the built-in model.
+//! - [`inspect`]: human-readable tables of a model.
 
 pub mod default_model;
 pub mod function;
+pub mod inspect;
 pub mod model;
 pub mod osim;
 pub mod reference;

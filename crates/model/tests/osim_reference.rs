@@ -1,6 +1,9 @@
 //! Import of the reference OpenSim models, checked against the independent tables of
 //! `subject1_contact_and_joints.json` (skipped when /work/shared is absent).
 
+// Numbers are copied verbatim from the .osim text (17 significant digits).
+#![allow(clippy::excessive_precision)]
+
 use serde_json::Value;
 use std::path::PathBuf;
 use stride_model::osim::load_osim;
