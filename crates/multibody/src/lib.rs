@@ -10,6 +10,8 @@
 //! - [`contact`]: smooth Hunt–Crossley sphere–plane contact (FORMULATION 5.2);
 //! - [`skeleton`]: the per-node entry of the optimal control problem.
 
+#![warn(missing_docs)]
+
 pub mod contact;
 pub mod data;
 pub mod dynamics;
