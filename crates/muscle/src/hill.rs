@@ -306,3 +306,8 @@ pub fn hill_equilibrium<T: Scalar>(
         mass: p.mass,
     }
 }
+
+/// Hill parameters of every muscle of a model, in model order (errors name the muscle).
+pub fn hill_params_from_model(model: &stride_model::Model) -> Result<Vec<HillParams>, MuscleError> {
+    model.muscles.iter().map(HillParams::from_muscle).collect()
+}

@@ -13,6 +13,6 @@ pub mod passive;
 pub mod polynomial;
 
 pub use error::MuscleError;
-pub use hill::{hill_equilibrium, HillOutput, HillParams};
+pub use hill::{hill_equilibrium, hill_params_from_model, HillOutput, HillParams};
 pub use metabolic::{basal_metabolic_rate, MetabolicModel, MetabolicRate};
 pub use polynomial::{MusclePaths, PathPolynomialEval, PathWorkspace};

@@ -149,3 +149,51 @@ fn passive_torques_hand_computed() {
     assert!((out[0] - cases[1].3).abs() < 1e-9);
     assert!(passive_torques(&elems, &[0.0], &[0.0], &mut out).is_err());
 }
+
+#[test]
+fn activation_functions_on_dual_numbers() {
+    let act = ActivationDynamics::default();
+    for (a, adot) in [(0.05, 10.0), (0.4, -3.0)] {
+        check_dual(
+            "constraint e>=0 d/da",
+            |x| act.constraints(x, adot)[0],
+            |x| act.constraints(x, Dual::constant(adot))[0],
+            a,
+            1e-6,
+            1e-8,
+        );
+        check_dual(
+            "constraint e<=1 d/dadot",
+            |x| act.constraints(a, x)[1],
+            |x| act.constraints(Dual::constant(a), x)[1],
+            adot,
+            1e-6,
+            1e-8,
+        );
+        check_dual(
+            "Raasch rate d/de",
+            |x| act.rate(x, a),
+            |x| act.rate(x, Dual::constant(a)),
+            0.6,
+            1e-6,
+            1e-7,
+        );
+    }
+    check_dual(
+        "arm rate",
+        |x| arm_activation_rate(x, 0.2),
+        |x| arm_activation_rate(x, Dual::constant(0.2)),
+        0.5,
+        1e-6,
+        1e-8,
+    );
+    check_dual("arm torque", arm_torque, arm_torque, 0.3, 1e-6, 1e-8);
+    check_dual(
+        "arm damping",
+        arm_damping_torque,
+        arm_damping_torque,
+        2.0,
+        1e-6,
+        1e-8,
+    );
+}
