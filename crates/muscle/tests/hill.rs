@@ -231,3 +231,51 @@ fn invalid_parameters_are_rejected_with_names() {
         1e-15,
     );
 }
+
+/// Second derivatives (HyperDual, for exact Hessians) of the Hill residual and of every
+/// metabolic model's total, against finite differences of the first derivative (Dual).
+#[test]
+fn second_derivatives_match_finite_differences_of_first() {
+    use stride_ad::HyperDual;
+    let Some(sh) = shared() else { return };
+    let c = &CHAINS[0];
+    let p = hill_params(&sh, c.muscle);
+    let h = 1e-5;
+    // Directions: activation (0), tendon force (1), l_MT (3), v_MT (4).
+    for (i, j) in [(0, 1), (1, 3), (3, 4), (4, 4), (0, 0)] {
+        for model in [
+            None,
+            Some(MetabolicModel::Bhargava2004),
+            Some(MetabolicModel::Uchida2016),
+        ] {
+            let hyper = {
+                let mut v = c.inputs.map(HyperDual::constant);
+                v[i].e1 = 1.0;
+                v[j].e2 = 1.0;
+                let out = hill_equilibrium(&p, v[0], v[1], v[2], v[3], v[4]);
+                match model {
+                    None => out.residual,
+                    Some(m) => m.rate(&p, v[0], &out).total,
+                }
+            };
+            // d/dx_j of (d/dx_i f) by central differences of the Dual derivative.
+            let first = |xj: f64| {
+                let mut v = c.inputs.map(Dual::constant);
+                v[i].eps = 1.0;
+                v[j].re = xj;
+                let out = hill_equilibrium(&p, v[0], v[1], v[2], v[3], v[4]);
+                match model {
+                    None => out.residual.eps,
+                    Some(m) => m.rate(&p, v[0], &out).total.eps,
+                }
+            };
+            let fd = (first(c.inputs[j] + h) - first(c.inputs[j] - h)) / (2.0 * h);
+            let tol = 1e-5 * fd.abs().max(1.0);
+            assert!(
+                (hyper.e12 - fd).abs() <= tol,
+                "{model:?} ∂²/∂x{i}∂x{j}: hyper-dual {} vs finite difference {fd}",
+                hyper.e12
+            );
+        }
+    }
+}
