@@ -12,7 +12,7 @@ use stride_model::{BodyId, Model};
 use crate::data::{AxisInfo, Data};
 use crate::error::MultibodyError;
 use crate::spatial::{
-    add, axis_angle, cross, cst3, mat_mul, mat_mul_f, mat_vec_f, scale, sub, zero3, Mat3, Vec3,
+    add, cross, cst3, mat_mul_f, mat_vec_f, rotate_columns, scale, sub, zero3, Mat3, Vec3,
 };
 
 /// `[θ, θ̇, θ̈, f', f'']` of one transform axis for coordinate values, speeds and
@@ -91,7 +91,7 @@ pub(crate) fn kinematics_pass<T: Scalar>(data: &mut Data<T>, q: &[T], v: &[T], q
                 );
             }
             w_rel = add(w_rel, scale(s, th_d));
-            r_gm = mat_mul(&r_gm, &axis_angle(ax.axis, th));
+            r_gm = rotate_columns(&r_gm, ax.axis, th.cos(), th.sin());
             s_g[k] = s;
             df[k] = [d1f, d2f];
         }

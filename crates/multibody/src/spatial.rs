@@ -124,10 +124,10 @@ pub fn mat_mul_f<T: Scalar>(a: &Mat3<T>, b: &[[f64; 3]; 3]) -> Mat3<T> {
     out
 }
 
-/// Rotation by angle `theta` [rad] about the constant unit axis `a` (Rodrigues).
+/// Rotation about the constant unit axis `a` by the angle whose cosine is `c` and sine
+/// is `s` (Rodrigues).
 #[inline]
-pub fn axis_angle<T: Scalar>(a: [f64; 3], theta: T) -> Mat3<T> {
-    let (s, c) = (theta.sin(), theta.cos());
+pub fn axis_angle<T: Scalar>(a: [f64; 3], c: T, s: T) -> Mat3<T> {
     let v = c.rsub(1.0);
     let mut m = [[T::zero(); 3]; 3];
     for (i, row) in m.iter_mut().enumerate() {
@@ -147,11 +147,35 @@ pub fn axis_angle<T: Scalar>(a: [f64; 3], theta: T) -> Mat3<T> {
     m
 }
 
+/// `m R(a, θ)` for a constant unit axis `a`, given `c = cos θ` and `s = sin θ`; a fast
+/// path for coordinate axes (±x, ±y, ±z) touches only the two affected columns.
+#[inline]
+pub fn rotate_columns<T: Scalar>(m: &Mat3<T>, a: [f64; 3], c: T, s: T) -> Mat3<T> {
+    // Coordinate axis k with sign σ: columns i, j (cyclic after k) rotate in their plane.
+    let nz: Vec3<bool> = [a[0] != 0.0, a[1] != 0.0, a[2] != 0.0];
+    let count = nz.iter().filter(|b| **b).count();
+    if count == 1 {
+        let k = nz.iter().position(|b| *b).unwrap_or(0);
+        let sign = a[k].signum();
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let s = if sign > 0.0 { s } else { -s };
+        let mut out = *m;
+        for row in out.iter_mut() {
+            let (mi, mj) = (row[i], row[j]);
+            row[i] = mi * c + mj * s;
+            row[j] = mj * c - mi * s;
+        }
+        return out;
+    }
+    mat_mul(m, &axis_angle(a, c, s))
+}
+
 /// Constant rotation matrix of body-fixed X–Y–Z Euler angles [rad] (OpenSim orientation).
 pub fn body_fixed_xyz(angles: [f64; 3]) -> [[f64; 3]; 3] {
-    let rx = axis_angle::<f64>([1.0, 0.0, 0.0], angles[0]);
-    let ry = axis_angle::<f64>([0.0, 1.0, 0.0], angles[1]);
-    let rz = axis_angle::<f64>([0.0, 0.0, 1.0], angles[2]);
+    let rot = |a: [f64; 3], t: f64| axis_angle::<f64>(a, t.cos(), t.sin());
+    let rx = rot([1.0, 0.0, 0.0], angles[0]);
+    let ry = rot([0.0, 1.0, 0.0], angles[1]);
+    let rz = rot([0.0, 0.0, 1.0], angles[2]);
     mat_mul(&mat_mul(&rx, &ry), &rz)
 }
 
