@@ -45,6 +45,10 @@ pub(super) struct SparsePlan {
     roff: Vec<u32>,
     ridx: Vec<u32>,
     maps: Vec<OpMaps>,
+    /// `(fa, fb)` of every op, kept apart for a compact forward sweep.
+    fmaps: Vec<[Map; 2]>,
+    /// Active operations (index into `ops`), ascending.
+    active_ops: Vec<u32>,
     store: Vec<u32>,
     /// `(position in ȧ store, Hessian entry)` for the lower triangle, in pattern order.
     hes_extract: Vec<u32>,
@@ -172,6 +176,11 @@ impl SparsePlan {
                 }
             }
         }
+        let fmaps = maps.iter().map(|m| [m.fa, m.fb]).collect();
+        let active_ops = (0..ops.len())
+            .filter(|&t| active[n_in + t])
+            .map(|t| t as u32)
+            .collect();
         (
             SparsePlan {
                 poff,
@@ -179,6 +188,8 @@ impl SparsePlan {
                 roff,
                 ridx,
                 maps,
+                fmaps,
+                active_ops,
                 store,
                 hes_extract,
                 curv,
@@ -243,33 +254,34 @@ impl super::Tape {
                 g[r.start] = 1.0;
             }
         }
-        for t in 0..self.ops.len() {
+        for &t in &sp.active_ops {
+            let t = t as usize;
             let k = n_in + t;
-            if !self.active[k] {
-                continue;
-            }
             let [a, b] = self.args[t];
             let [pa, pb] = ws.part[t];
-            let m = sp.maps[t];
+            let [fa, fb] = sp.fmaps[t];
             let rk = range(&sp.poff, k);
             let (lo, hi) = g.split_at_mut(rk.start);
             let gk = &mut hi[..rk.len()];
-            gk.iter_mut().for_each(|x| *x = 0.0);
-            if a == b {
-                axpy(
-                    gk,
-                    &lo[range(&sp.poff, a as usize)],
-                    pa + pb,
-                    m.fa,
-                    &sp.store,
-                );
-                continue;
+            let (ca, use_b) = if a == b {
+                (pa + pb, false)
+            } else {
+                (pa, b != sink)
+            };
+            if a != sink && fa.ident {
+                // Same index set as the result: write, no zeroing needed.
+                let ga = &lo[range(&sp.poff, a as usize)];
+                for (d, s) in gk.iter_mut().zip(ga) {
+                    *d = ca * s;
+                }
+            } else {
+                gk.iter_mut().for_each(|x| *x = 0.0);
+                if a != sink {
+                    axpy(gk, &lo[range(&sp.poff, a as usize)], ca, fa, &sp.store);
+                }
             }
-            if a != sink {
-                axpy(gk, &lo[range(&sp.poff, a as usize)], pa, m.fa, &sp.store);
-            }
-            if b != sink {
-                axpy(gk, &lo[range(&sp.poff, b as usize)], pb, m.fb, &sp.store);
+            if use_b {
+                axpy(gk, &lo[range(&sp.poff, b as usize)], pb, fb, &sp.store);
             }
         }
     }
