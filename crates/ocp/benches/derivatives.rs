@@ -768,11 +768,14 @@ impl ForwardColoured {
 
 fn main() {
     match RealModel::new() {
-        Some(real) => run(
+        Some(real) => {
+            breakdown(&real);
+            run(
             "REAL node function: stride_multibody skeleton_dynamics (31 coordinates, 12 spheres) \
              + stride_muscle paths/Hill/metabolics on the built-in model",
             &real,
-        ),
+            )
+        }
         None => println!("(built-in model unavailable: real node function skipped)"),
     }
     println!();
@@ -780,6 +783,55 @@ fn main() {
         "STAND-IN node function: Newton-Euler tree written in this bench + stride_muscle \
          Hill/metabolics on synthetic order-5 polynomials",
         &build_model(),
+    );
+}
+
+/// Tape sizes of the parts of the real node function (where the operations come from).
+fn breakdown(m: &RealModel) {
+    let mut rng = Rng(42);
+    let x0 = m.point(&mut rng);
+    let (nm, nq) = (m.nm(), m.nq());
+    let q0 = 4 * nm;
+    let count =
+        |f: &dyn Fn(&[Var]) -> Vec<Var>| Tape::record(&x0, f).map_or(0, |t| t.stats().n_ops);
+    let skeleton = count(&|x| {
+        let mut sc = m.scratch::<Var>();
+        let (data, out) = sc.skel.as_mut().expect("skeleton");
+        let (q, v, a) = (
+            &x[q0..q0 + nq],
+            &x[q0 + nq..q0 + 2 * nq],
+            &x[q0 + 2 * nq..q0 + 3 * nq],
+        );
+        skeleton_dynamics(&m.model, data, q, v, a, out).expect("skeleton");
+        out.tau.clone()
+    });
+    let paths = count(&|x| {
+        let mut sc = m.scratch::<Var>();
+        let (q, v) = (&x[q0..q0 + nq], &x[q0 + nq..q0 + 2 * nq]);
+        m.paths
+            .evaluate(
+                q,
+                v,
+                &mut sc.pw,
+                &mut sc.lengths,
+                &mut sc.velocities,
+                &mut sc.arms,
+            )
+            .expect("paths");
+        let mut o = sc.lengths.clone();
+        o.extend(sc.velocities.iter().copied());
+        o.extend(sc.arms.iter().copied());
+        o
+    });
+    let total = count(&|x| {
+        let mut sc = m.scratch::<Var>();
+        m.eval(x, &mut sc)
+    });
+    println!(
+        "# Real node function: tape operations by part: skeleton_dynamics {skeleton}, \
+         muscle paths (lengths, velocities, moment arms) {paths}, \
+         Hill + metabolics + assembly {}, total {total}",
+        total.saturating_sub(skeleton + paths)
     );
 }
 
