@@ -1,0 +1,35 @@
+//! Checks shared by the backends before a solve: bounds, derivative patterns and the problem
+//! functions at the initial point, turned into [`SolveError`]s that say what is wrong.
+
+use crate::nlp::{validate_bounds, validate_structures, Bounds, Nlp, Structures};
+use crate::solver::SolveError;
+
+/// A validated problem: bounds, derivative patterns and the initial point.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// Variable and constraint bounds.
+    pub bounds: Bounds,
+    /// Jacobian and Hessian patterns.
+    pub structures: Structures,
+    /// The problem's initial guess.
+    pub x0: Vec<f64>,
+}
+
+/// Validates `nlp` and evaluates f, ∇f, c and the Jacobian at its initial point.
+pub fn prepare(nlp: &dyn Nlp) -> Result<Prepared, SolveError> {
+    let bounds = validate_bounds(nlp)?;
+    let structures = validate_structures(nlp)?;
+    let (n, m) = (nlp.n(), nlp.m());
+    let mut x0 = vec![0.0; n];
+    nlp.initial_point(&mut x0);
+    let init = |r: Result<(), crate::nlp::EvalError>| r.map_err(SolveError::InitialEvaluation);
+    init(nlp.objective(&x0).map(|_| ()))?;
+    init(nlp.gradient(&x0, &mut vec![0.0; n]))?;
+    init(nlp.constraints(&x0, &mut vec![0.0; m]))?;
+    init(nlp.jacobian_values(&x0, &mut vec![0.0; structures.jacobian.nnz()]))?;
+    Ok(Prepared {
+        bounds,
+        structures,
+        x0,
+    })
+}
