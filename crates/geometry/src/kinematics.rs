@@ -173,8 +173,8 @@ impl Kinematics {
             let mut t = [T::zero(); 3];
             for ax in &j.translations {
                 let s = ax.function.eval(coord_value(q, ax.coordinate));
-                for k in 0..3 {
-                    t[k] += s * ax.axis[k];
+                for (tk, ak) in t.iter_mut().zip(ax.axis) {
+                    *tk += s * ak;
                 }
             }
             let rm = mul_mm(&rf, &rfm);

@@ -26,7 +26,7 @@ enum PointLocation {
         coordinate: CoordId,
         range: [f64; 2],
     },
-    Moving([Option<(CoordId, PreparedFunction)>; 3]),
+    Moving(Box<[Option<(CoordId, PreparedFunction)>; 3]>),
 }
 
 /// A path point ready for evaluation.
@@ -80,7 +80,7 @@ impl MusclePaths {
                                 *o = Some((*ci, PreparedFunction::new(f)));
                             }
                         }
-                        PointLocation::Moving(out)
+                        PointLocation::Moving(Box::new(out))
                     }
                 };
                 pts.push(PreparedPoint {
@@ -122,7 +122,7 @@ impl MusclePaths {
                 }
                 PointLocation::Moving(components) => {
                     let mut l = p.location.map(T::cst);
-                    for (li, c) in l.iter_mut().zip(components) {
+                    for (li, c) in l.iter_mut().zip(components.iter()) {
                         if let Some((ci, f)) = c {
                             *li = f.eval(q[*ci]);
                         }

@@ -18,11 +18,7 @@ pub struct PoseSamples {
 impl PoseSamples {
     /// Number of poses.
     pub fn len(&self) -> usize {
-        if self.n_coords == 0 {
-            0
-        } else {
-            self.q.len() / self.n_coords
-        }
+        self.q.len().checked_div(self.n_coords).unwrap_or(0)
     }
 
     /// True when there is no pose.

@@ -45,6 +45,9 @@ fn derivatives_of_constant_terms_are_zero_at_origin() {
     }
 }
 
+/// One line of the FORMULATION 4.2 table: muscle, l(0), r(0), l(0.2), r(0.2) [m].
+type RefRow = (&'static str, f64, &'static [f64], f64, &'static [f64]);
+
 /// Reference evaluations of FORMULATION 4.2 computed from the published coefficients with
 /// the basis generated here (the exponent lists of the file must equal ours).
 #[test]
@@ -56,7 +59,7 @@ fn reference_polynomials_evaluate_to_formulation_table() {
         return;
     };
     let json: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let table: [(&str, f64, &[f64], f64, &[f64]); 6] = [
+    let table: [RefRow; 6] = [
         ("bifemsh_r", 0.244916, &[-0.021847], 0.248397, &[-0.012699]),
         ("vas_med_r", 0.174958, &[0.039984], 0.168177, &[0.018397]),
         (
