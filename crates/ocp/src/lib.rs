@@ -16,4 +16,5 @@ pub mod problem;
 pub mod radau;
 pub mod settings;
 pub mod tape_node;
+pub mod trajectory;
 pub mod transcription;

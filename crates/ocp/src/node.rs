@@ -10,7 +10,7 @@ use crate::settings::MetabolicModelName;
 use crate::transcription::NodeInputs;
 use stride_ad::Scalar;
 use stride_model::BodyId;
-use stride_multibody::Data;
+use stride_multibody::{Data, SkeletonOutput};
 use stride_muscle::activation::{ActivationDynamics, ARM_DAMPING};
 use stride_muscle::{hill_equilibrium, HillParams, MetabolicModel, MusclePaths, PathWorkspace};
 
@@ -100,7 +100,7 @@ pub struct NodeWorkspace<T: Scalar> {
     q: Vec<T>,
     v: Vec<T>,
     qdd: Vec<T>,
-    tau: Vec<T>,
+    skeleton: SkeletonOutput<T>,
     lmt: Vec<T>,
     vmt: Vec<T>,
     arms: Vec<T>,
@@ -240,13 +240,14 @@ impl NodeModel {
     pub fn workspace<T: Scalar>(&self) -> Result<NodeWorkspace<T>, ProblemError> {
         let nc = self.model.coordinates.len();
         let nm = self.model.muscles.len();
+        let data = Data::new(&self.model).map_err(|e| ProblemError::Model(e.to_string()))?;
         Ok(NodeWorkspace {
-            data: Data::new(&self.model).map_err(|e| ProblemError::Model(e.to_string()))?,
+            skeleton: SkeletonOutput::new(&self.model, &data),
+            data,
             paths: PathWorkspace::for_paths(&self.paths),
             q: vec![T::zero(); nc],
             v: vec![T::zero(); nc],
             qdd: vec![T::zero(); nc],
-            tau: vec![T::zero(); nc],
             lmt: vec![T::zero(); nm],
             vmt: vec![T::zero(); nm],
             arms: vec![T::zero(); self.paths.n_moment_arms()],
@@ -312,17 +313,19 @@ impl NodeModel {
             sum_df2 += x[io.df() + m].sq();
         }
         // Inverse dynamics with contact.
-        skeleton(
+        stride_multibody::skeleton_dynamics(
             &self.model,
             &mut ws.data,
             &ws.q,
             &ws.v,
             &ws.qdd,
-            &mut ws.tau,
-        );
+            &mut ws.skeleton,
+        )
+        .expect("skeleton workspace sized at construction");
+        let tau = &ws.skeleton.tau;
         let mut out = 0;
         for &i in &self.root {
-            y[out] = ws.tau[self.coord_model[i]];
+            y[out] = tau[self.coord_model[i]];
             out += 1;
         }
         let mut sum_tp2 = T::zero();
@@ -341,7 +344,7 @@ impl NodeModel {
                 None => T::zero(),
             };
             sum_tp2 += tp * tp;
-            y[out] = ws.tau[c] - (muscle + tp);
+            y[out] = tau[c] - (muscle + tp);
             out += 1;
         }
         let mut sum_e_arm2 = T::zero();
@@ -350,15 +353,15 @@ impl NodeModel {
             let c = self.coord_model[i];
             let tp = -ws.v[c] * ARM_DAMPING;
             sum_tp2 += tp * tp;
-            y[out] = ws.tau[c] / self.s_arm - (x[io.arm() + k] + tp / self.s_arm);
+            y[out] = tau[c] / self.s_arm - (x[io.arm() + k] + tp / self.s_arm);
             out += 1;
             sum_e_arm2 += x[io.e_arm() + k].sq();
             sum_arm_acc2 += x[io.qdd() + i].sq();
         }
         // Distances between body origins in the ground x–z plane.
         for (k, &(b0, b1, _, _)) in self.distances.iter().enumerate() {
-            let p0 = ws.data.body_origin(b0);
-            let p1 = ws.data.body_origin(b1);
+            let p0 = ws.skeleton.body_origins[b0];
+            let p1 = ws.skeleton.body_origins[b1];
             y[o.distance() + k] = (p0[0] - p1[0]).sq() + (p0[2] - p1[2]).sq();
         }
         // Cost integrand (means over the elements of each norm; accelerations scaled).
@@ -388,15 +391,85 @@ impl NodeModel {
     }
 }
 
-/// Generalised forces of all model coordinates under gravity and foot contact.
-fn skeleton<T: Scalar>(
-    model: &stride_model::Model,
-    data: &mut Data<T>,
-    q: &[T],
-    v: &[T],
-    qdd: &[T],
-    tau: &mut [T],
-) {
-    stride_multibody::skeleton_dynamics(model, data, q, v, qdd, tau)
-        .expect("skeleton workspace sized at construction");
+/// Physical quantities of one sample, for post-processing (f64 only).
+#[derive(Clone, Debug, Default)]
+pub struct SampleOutputs {
+    /// Generalised forces of the problem coordinates [N m or N].
+    pub tau: Vec<f64>,
+    /// Contact force of each contact group (foot) [N], ground frame.
+    pub group_force: Vec<[f64; 3]>,
+    /// Contact moment of each group about the ground origin [N m].
+    pub group_moment: Vec<[f64; 3]>,
+    /// Origin of every body in ground [m].
+    pub body_origins: Vec<[f64; 3]>,
+    /// Metabolic rate per problem muscle of the cost's model [W].
+    pub metabolic: Vec<f64>,
+    /// Metabolic rate per problem muscle with Bhargava 2004 (for the cost of transport) [W].
+    pub metabolic_bhargava: Vec<f64>,
+    /// Tendon force per problem muscle [N].
+    pub tendon_force: Vec<f64>,
+    /// Passive torque per problem coordinate (0 where none) [N m].
+    pub passive: Vec<f64>,
+}
+
+impl NodeModel {
+    /// Evaluate the node function on `f64` and collect the physical quantities.
+    pub fn sample(&self, ws: &mut NodeWorkspace<f64>, x: &[f64]) -> SampleOutputs {
+        let mut y = vec![0.0; self.n_outputs()];
+        self.eval(ws, x, &mut y);
+        let io = self.inputs;
+        let mut out = SampleOutputs {
+            tau: self
+                .coord_model
+                .iter()
+                .map(|&c| ws.skeleton.tau[c])
+                .collect(),
+            group_force: ws.skeleton.group_force.clone(),
+            group_moment: ws.skeleton.group_moment.clone(),
+            body_origins: ws.skeleton.body_origins.clone(),
+            tendon_force: ws.tendon.clone(),
+            passive: vec![0.0; self.coord_model.len()],
+            ..Default::default()
+        };
+        for m in 0..io.nm {
+            let mi = self.muscle_model[m];
+            let a = x[io.a() + m];
+            let h = hill_equilibrium(
+                &self.hill[m],
+                a,
+                x[io.f() + m] * self.s_f,
+                x[io.df() + m] * self.s_df,
+                ws.lmt[mi],
+                ws.vmt[mi],
+            );
+            out.metabolic
+                .push(self.metabolic.rate(&self.hill[m], a, &h).total);
+            out.metabolic_bhargava.push(
+                MetabolicModel::Bhargava2004
+                    .rate(&self.hill[m], a, &h)
+                    .total,
+            );
+        }
+        for &(i, passive) in &self.muscle_driven {
+            if let Some(pi) = passive {
+                let c = self.coord_model[i];
+                out.passive[i] = stride_muscle::passive::passive_torque(
+                    &self.model.passive_torques[pi],
+                    ws.q[c],
+                    ws.v[c],
+                );
+            }
+        }
+        for &i in &self.actuator_driven {
+            out.passive[i] = -ws.v[self.coord_model[i]] * ARM_DAMPING;
+        }
+        out
+    }
+
+    /// Names of the contact groups (feet) in the order of `SampleOutputs::group_force`.
+    pub fn contact_groups(&self) -> Result<Vec<String>, ProblemError> {
+        let data: Data<f64> =
+            Data::new(&self.model).map_err(|e| ProblemError::Model(e.to_string()))?;
+        Ok(data.groups.names.clone())
+    }
 }

@@ -1,0 +1,498 @@
+//! The solution as trajectories in physical units: the simulated half cycle on the mesh,
+//! the full gait cycle reconstructed from it (FORMULATION 11.1–11.2), and the outcome
+//! measures (11.3).
+
+use crate::layout::Point;
+use crate::node::{NodeModel, SampleOutputs};
+use crate::problem::{GaitProblem, ProblemError, GRAVITY, TAU_ACTIVATION, TAU_DEACTIVATION};
+use crate::transcription::NodeInputs;
+use serde::Serialize;
+use stride_muscle::activation::ActivationDynamics;
+
+/// Vertical force above which a foot is in contact [N].
+pub const CONTACT_THRESHOLD: f64 = 20.0;
+
+/// Trajectories over a gait cycle (or the simulated half cycle): one row per sample.
+///
+/// State-type series (q, v, activations, tendon forces, arm activations) and
+/// control-type series (accelerations, tendon-force rates, activation rates, arm
+/// excitations, torques, ground reaction forces) are aligned sample by sample.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Trajectory {
+    /// Sample times [s].
+    pub time: Vec<f64>,
+    /// Coordinates [rad or m], problem order.
+    pub q: Vec<Vec<f64>>,
+    /// Speeds [rad s⁻¹ or m s⁻¹].
+    pub v: Vec<Vec<f64>>,
+    /// Accelerations [rad s⁻² or m s⁻²].
+    pub qdd: Vec<Vec<f64>>,
+    /// Muscle activations, problem muscle order.
+    pub activation: Vec<Vec<f64>>,
+    /// Activation rates [s⁻¹].
+    pub activation_rate: Vec<Vec<f64>>,
+    /// Normalised tendon forces.
+    pub tendon_force: Vec<Vec<f64>>,
+    /// Normalised tendon-force rates [s⁻¹].
+    pub tendon_force_rate: Vec<Vec<f64>>,
+    /// Arm activations.
+    pub arm_activation: Vec<Vec<f64>>,
+    /// Arm excitations.
+    pub arm_excitation: Vec<Vec<f64>>,
+    /// Generalised forces from inverse dynamics [N m or N].
+    pub torque: Vec<Vec<f64>>,
+    /// Ground reaction force on the right foot [N] (x, y, z ground).
+    pub grf_right: Vec<[f64; 3]>,
+    /// Ground reaction force on the left foot [N].
+    pub grf_left: Vec<[f64; 3]>,
+    /// Ground reaction moment of the right foot about the ground origin [N m].
+    pub grm_right: Vec<[f64; 3]>,
+    /// Ground reaction moment of the left foot about the ground origin [N m].
+    pub grm_left: Vec<[f64; 3]>,
+}
+
+/// The simulated half (or full) cycle on the mesh, in physical units.
+#[derive(Clone, Debug)]
+pub struct MeshSolution {
+    /// Samples k = 0..N−1 (state-type at mesh point k, control-type at mesh point k+1 ≡
+    /// collocation point 3 of interval k), and the final state (mesh point N).
+    pub half: Trajectory,
+    /// Coordinates at mesh point N.
+    pub q_final: Vec<f64>,
+    /// Duration [s].
+    pub duration: f64,
+    /// Distance travelled by the pelvis [m].
+    pub distance: f64,
+    /// Calcaneus origins (right, left) at mesh points 0..=N [m].
+    pub calcaneus: Vec<[[f64; 3]; 2]>,
+}
+
+fn push_sample(t: &mut Trajectory, s: &SampleOutputs, groups: [usize; 2]) {
+    t.torque.push(s.tau.clone());
+    let g = |i: usize| s.group_force.get(i).copied().unwrap_or([0.0; 3]);
+    let m = |i: usize| s.group_moment.get(i).copied().unwrap_or([0.0; 3]);
+    // The ground reaction on the foot is the contact force on the foot body.
+    t.grf_right.push(g(groups[0]));
+    t.grf_left.push(g(groups[1]));
+    t.grm_right.push(m(groups[0]));
+    t.grm_left.push(m(groups[1]));
+}
+
+impl GaitProblem {
+    /// Physical trajectories of the solution `x` on the mesh.
+    pub fn mesh_solution(&self, node: &NodeModel, x: &[f64]) -> Result<MeshSolution, ProblemError> {
+        let l = &self.layout;
+        let s = &self.scaling;
+        let n = l.n;
+        let tf = x[l.tf()];
+        let h = tf / n as f64;
+        let io = NodeInputs {
+            nm: l.nm,
+            nq: l.nq,
+            na: l.na,
+        };
+        let mut ws = node.workspace::<f64>()?;
+        let names = node.contact_groups()?;
+        let right = names.iter().position(|g| g == "right").unwrap_or(0);
+        let left = names.iter().position(|g| g == "left").unwrap_or(1);
+        let calcn = |side: &str| {
+            self.model
+                .body_index(&format!("calcn_{side}"))
+                .ok_or_else(|| ProblemError::UnknownBody(format!("calcn_{side}")))
+        };
+        let (cr, cl) = (calcn("r")?, calcn("l")?);
+        let mut t = Trajectory::default();
+        let mut calcaneus = Vec::with_capacity(n + 1);
+        let state_at = |p: Point| -> Vec<f64> {
+            let mut xin = vec![0.0; io.len()];
+            for m in 0..l.nm {
+                xin[io.a() + m] = x[l.a(p, m)];
+                xin[io.f() + m] = x[l.f(p, m)];
+            }
+            for i in 0..l.nq {
+                xin[io.q() + i] = x[l.q(p, i)];
+                xin[io.v() + i] = x[l.v(p, i)];
+            }
+            for i in 0..l.na {
+                xin[io.arm() + i] = x[l.arm(p, i)];
+            }
+            xin
+        };
+        for k in 0..=n {
+            let xin = state_at(Point::Mesh(k));
+            let out = node.sample(&mut ws, &xin);
+            calcaneus.push([out.body_origins[cr], out.body_origins[cl]]);
+            if k == n {
+                break;
+            }
+            t.time.push(k as f64 * h);
+            t.q.push((0..l.nq).map(|i| xin[io.q() + i] * s.q[i]).collect());
+            t.v.push((0..l.nq).map(|i| xin[io.v() + i] * s.v[i]).collect());
+            t.activation
+                .push((0..l.nm).map(|m| xin[io.a() + m]).collect());
+            t.tendon_force.push(
+                (0..l.nm)
+                    .map(|m| xin[io.f() + m] * s.tendon_force)
+                    .collect(),
+            );
+            t.arm_activation
+                .push((0..l.na).map(|i| xin[io.arm() + i]).collect());
+            // Control-type quantities at collocation point 3 of interval k.
+            let mut xc = state_at(Point::Col(k, 3));
+            for m in 0..l.nm {
+                xc[io.df() + m] = x[l.u_df(k, 3, m)];
+                xc[io.da() + m] = x[l.u_da(k, m)];
+            }
+            for i in 0..l.nq {
+                xc[io.qdd() + i] = x[l.u_dv(k, 3, i)];
+            }
+            for i in 0..l.na {
+                xc[io.e_arm() + i] = x[l.e_arm(k, i)];
+            }
+            let out = node.sample(&mut ws, &xc);
+            push_sample(&mut t, &out, [right, left]);
+            t.qdd
+                .push((0..l.nq).map(|i| xc[io.qdd() + i] * s.a[i]).collect());
+            t.tendon_force_rate.push(
+                (0..l.nm)
+                    .map(|m| xc[io.df() + m] * s.tendon_force_rate)
+                    .collect(),
+            );
+            t.activation_rate.push(
+                (0..l.nm)
+                    .map(|m| xc[io.da() + m] * s.activation_rate)
+                    .collect(),
+            );
+            t.arm_excitation
+                .push((0..l.na).map(|i| xc[io.e_arm() + i]).collect());
+        }
+        let tx = self.gait.forward_translation;
+        let q_final: Vec<f64> = (0..l.nq)
+            .map(|i| x[l.q(Point::Mesh(n), i)] * s.q[i])
+            .collect();
+        let distance = q_final[tx] - t.q[0][tx];
+        Ok(MeshSolution {
+            half: t,
+            q_final,
+            duration: tf,
+            distance,
+            calcaneus,
+        })
+    }
+
+    fn mirror_muscles(&self, v: &[f64]) -> Vec<f64> {
+        self.gait.muscle_mirror.iter().map(|&m| v[m]).collect()
+    }
+
+    fn mirror_arms(&self, v: &[f64]) -> Vec<f64> {
+        let arms = self.gait.actuator_driven();
+        arms.iter()
+            .map(|&ci| {
+                let mc = self.gait.coordinates[ci].mirror;
+                v[arms.iter().position(|&x| x == mc).unwrap_or(0)]
+            })
+            .collect()
+    }
+
+    /// Sample `g` of the periodic extension of the half cycle: half `g / N` is mirrored when
+    /// odd, and shifted forward by (g / N)·d.
+    fn extended_sample(&self, m: &MeshSolution, g: usize, control: bool) -> Trajectory {
+        let n = self.layout.n;
+        // State-type sample g ↔ mesh point g mod N of half g / N; control-type sample g
+        // ↔ mesh point ((g − 1) mod N) + 1, stored at index (g − 1) mod N.
+        let (half, k) = if control {
+            ((g.max(1) - 1) / n, (g.max(1) - 1) % n)
+        } else {
+            (g / n, g % n)
+        };
+        let t = &m.half;
+        let mirrored = half % 2 == 1 && self.is_half_cycle();
+        let shift = half as f64 * m.distance;
+        let tx = self.gait.forward_translation;
+        let mut s = Trajectory::default();
+        let mq = |v: &[f64]| {
+            if mirrored {
+                self.mirror_coordinates(v)
+            } else {
+                v.to_vec()
+            }
+        };
+        let mm = |v: &[f64]| {
+            if mirrored {
+                self.mirror_muscles(v)
+            } else {
+                v.to_vec()
+            }
+        };
+        let ma = |v: &[f64]| {
+            if mirrored {
+                self.mirror_arms(v)
+            } else {
+                v.to_vec()
+            }
+        };
+        if control {
+            s.qdd.push(mq(&t.qdd[k]));
+            s.torque.push(mq(&t.torque[k]));
+            s.activation_rate.push(mm(&t.activation_rate[k]));
+            s.tendon_force_rate.push(mm(&t.tendon_force_rate[k]));
+            s.arm_excitation.push(ma(&t.arm_excitation[k]));
+            let flip_f = |f: [f64; 3]| [f[0], f[1], -f[2]];
+            let flip_m = |f: [f64; 3]| [-f[0], -f[1], f[2]];
+            if mirrored {
+                s.grf_right.push(flip_f(t.grf_left[k]));
+                s.grf_left.push(flip_f(t.grf_right[k]));
+                s.grm_right.push(flip_m(t.grm_left[k]));
+                s.grm_left.push(flip_m(t.grm_right[k]));
+            } else {
+                s.grf_right.push(t.grf_right[k]);
+                s.grf_left.push(t.grf_left[k]);
+                s.grm_right.push(t.grm_right[k]);
+                s.grm_left.push(t.grm_left[k]);
+            }
+        } else {
+            let mut q = mq(&t.q[k]);
+            q[tx] += shift;
+            s.q.push(q);
+            s.v.push(mq(&t.v[k]));
+            s.activation.push(mm(&t.activation[k]));
+            s.tendon_force.push(mm(&t.tendon_force[k]));
+            s.arm_activation.push(ma(&t.arm_activation[k]));
+        }
+        s
+    }
+
+    /// The full gait cycle (2N samples) starting at right heel strike, reconstructed from the
+    /// symmetric half cycle; a full-cycle problem is re-ordered to start at right heel strike.
+    pub fn gait_cycle(&self, m: &MeshSolution) -> Trajectory {
+        let n = self.layout.n;
+        let total = if self.is_half_cycle() { 2 * n } else { n };
+        let vy_r: Vec<f64> = m.half.grf_right.iter().map(|f| f[1]).collect();
+        let vy_l: Vec<f64> = m.half.grf_left.iter().map(|f| f[1]).collect();
+        // Heel strike (as a mesh-point index 1..=N) of the right foot, else of the left
+        // foot followed by a mirrored start (half cycles only).
+        // Without a right heel strike in the half cycle, the left heel strike of the first
+        // half is the right heel strike of the mirrored second half (start there).
+        let start = match heel_strike(&vy_r) {
+            Some(s) => s,
+            None if self.is_half_cycle() => heel_strike(&vy_l).map(|s| s + n).unwrap_or(0),
+            None => 0,
+        };
+        let h = m.duration / n as f64;
+        let mut out = Trajectory::default();
+        for i in 0..total {
+            let g = start + i;
+            let st = self.extended_sample(m, g, false);
+            let ct = self.extended_sample(m, g, true);
+            out.time.push(i as f64 * h);
+            out.q.extend(st.q);
+            out.v.extend(st.v);
+            out.activation.extend(st.activation);
+            out.tendon_force.extend(st.tendon_force);
+            out.arm_activation.extend(st.arm_activation);
+            out.qdd.extend(ct.qdd);
+            out.torque.extend(ct.torque);
+            out.activation_rate.extend(ct.activation_rate);
+            out.tendon_force_rate.extend(ct.tendon_force_rate);
+            out.arm_excitation.extend(ct.arm_excitation);
+            out.grf_right.extend(ct.grf_right);
+            out.grf_left.extend(ct.grf_left);
+            out.grm_right.extend(ct.grm_right);
+            out.grm_left.extend(ct.grm_left);
+        }
+        let tx = self.gait.forward_translation;
+        let x0 = out.q[0][tx];
+        out.q.iter_mut().for_each(|q| q[tx] -= x0);
+        out
+    }
+
+    /// Excitations recovered from activations and their rates (FORMULATION 2).
+    pub fn excitations(&self, t: &Trajectory) -> Vec<Vec<f64>> {
+        let act = ActivationDynamics {
+            tau_activation: TAU_ACTIVATION,
+            tau_deactivation: TAU_DEACTIVATION,
+        };
+        t.activation
+            .iter()
+            .zip(&t.activation_rate)
+            .map(|(a, da)| {
+                a.iter()
+                    .zip(da)
+                    .map(|(&a, &da)| act.excitation(a, da))
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+/// Index (mesh point, 1..=N) of heel strike in a vertical-force series sampled at mesh
+/// points 1..=N (FORMULATION 11.2): the sample after the last one below the threshold, or,
+/// when the series ends below it, the first sample above it (unless that is sample 1).
+pub fn heel_strike(vy: &[f64]) -> Option<usize> {
+    let n = vy.len();
+    let last_below = vy.iter().rposition(|&f| f < CONTACT_THRESHOLD)?;
+    if last_below + 1 < n {
+        return Some(last_below + 2);
+    }
+    let first_above = vy.iter().position(|&f| f >= CONTACT_THRESHOLD)?;
+    if first_above == 0 {
+        None
+    } else {
+        Some(first_above + 1)
+    }
+}
+
+/// Outcome measures of a predicted gait (FORMULATION 11.3).
+#[derive(Clone, Debug, Serialize)]
+pub struct Outcomes {
+    /// Metabolic cost of transport with Bhargava 2004, basal rate included [J kg⁻¹ m⁻¹].
+    pub cost_of_transport: f64,
+    /// Cost of transport with the cost function's metabolic model [J kg⁻¹ m⁻¹].
+    pub cost_of_transport_cost_model: f64,
+    /// Stride length [m].
+    pub stride_length: f64,
+    /// Step width [m].
+    pub step_width: f64,
+    /// Stride frequency [strides s⁻¹].
+    pub stride_frequency: f64,
+    /// Average forward speed [m s⁻¹].
+    pub speed: f64,
+    /// Gait cycle duration [s].
+    pub cycle_duration: f64,
+    /// Fraction of the cycle with the right foot in contact.
+    pub stance_fraction_right: f64,
+    /// Fraction of the cycle with the left foot in contact.
+    pub stance_fraction_left: f64,
+    /// Fraction of the cycle with both feet in contact.
+    pub double_support_fraction: f64,
+    /// Number of separate stance phases of the right foot over the cycle.
+    pub stance_phases_right: usize,
+    /// Number of peaks of the right vertical ground reaction force in stance.
+    pub vertical_grf_peaks_right: usize,
+}
+
+impl GaitProblem {
+    /// Outcome measures of a reconstructed gait cycle.
+    pub fn outcomes(
+        &self,
+        node: &NodeModel,
+        m: &MeshSolution,
+        cycle: &Trajectory,
+    ) -> Result<Outcomes, ProblemError> {
+        let l = &self.layout;
+        let s = &self.scaling;
+        let io = NodeInputs {
+            nm: l.nm,
+            nq: l.nq,
+            na: l.na,
+        };
+        let mut ws = node.workspace::<f64>()?;
+        let ns = cycle.time.len();
+        let mut e_bh = Vec::with_capacity(ns);
+        let mut e_cost = Vec::with_capacity(ns);
+        let basal = 1.2 * self.body_mass;
+        for i in 0..ns {
+            let mut xin = vec![0.0; io.len()];
+            for k in 0..l.nm {
+                xin[io.a() + k] = cycle.activation[i][k];
+                xin[io.f() + k] = cycle.tendon_force[i][k] / s.tendon_force;
+                xin[io.df() + k] = cycle.tendon_force_rate[i][k] / s.tendon_force_rate;
+            }
+            for k in 0..l.nq {
+                xin[io.q() + k] = cycle.q[i][k] / s.q[k];
+                xin[io.v() + k] = cycle.v[i][k] / s.v[k];
+                xin[io.qdd() + k] = cycle.qdd[i][k] / s.a[k];
+            }
+            let out = node.sample(&mut ws, &xin);
+            e_bh.push(basal + out.metabolic_bhargava.iter().sum::<f64>());
+            e_cost.push(basal + out.metabolic.iter().sum::<f64>());
+        }
+        let tx = self.gait.forward_translation;
+        let d_gc = cycle.q[ns - 1][tx] - cycle.q[0][tx];
+        let trapz = |e: &[f64]| -> f64 {
+            (0..ns - 1)
+                .map(|i| 0.5 * (e[i] + e[i + 1]) * (cycle.time[i + 1] - cycle.time[i]))
+                .sum()
+        };
+        let cot = trapz(&e_bh) / (self.body_mass * d_gc);
+        let cot_cost = trapz(&e_cost) / (self.body_mass * d_gc);
+        let dist = |a: [f64; 3], b: [f64; 3]| {
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        };
+        let n = l.n;
+        let stride_length = if self.is_half_cycle() {
+            dist(m.calcaneus[n][0], m.calcaneus[0][0]) + dist(m.calcaneus[n][1], m.calcaneus[0][1])
+        } else {
+            0.5 * (dist(m.calcaneus[n][0], m.calcaneus[0][0])
+                + dist(m.calcaneus[n][1], m.calcaneus[0][1]))
+        };
+        let step_width = m
+            .calcaneus
+            .iter()
+            .map(|c| (c[0][2] - c[1][2]).abs())
+            .sum::<f64>()
+            / m.calcaneus.len() as f64;
+        let speed = m.distance / m.duration;
+        let contact_r: Vec<bool> = cycle
+            .grf_right
+            .iter()
+            .map(|f| f[1] > CONTACT_THRESHOLD)
+            .collect();
+        let contact_l: Vec<bool> = cycle
+            .grf_left
+            .iter()
+            .map(|f| f[1] > CONTACT_THRESHOLD)
+            .collect();
+        let frac = |v: &[bool]| v.iter().filter(|&&b| b).count() as f64 / v.len() as f64;
+        let both: Vec<bool> = contact_r
+            .iter()
+            .zip(&contact_l)
+            .map(|(a, b)| *a && *b)
+            .collect();
+        let phases = (0..ns)
+            .filter(|&i| contact_r[i] && !contact_r[(i + ns - 1) % ns])
+            .count();
+        let vy: Vec<f64> = cycle.grf_right.iter().map(|f| f[1]).collect();
+        let peaks = (0..ns)
+            .filter(|&i| {
+                let (p, nx) = (vy[(i + ns - 1) % ns], vy[(i + 1) % ns]);
+                contact_r[i] && vy[i] > p && vy[i] >= nx && vy[i] > 0.5 * self.body_mass * GRAVITY
+            })
+            .count();
+        let cycle_duration = if self.is_half_cycle() {
+            2.0 * m.duration
+        } else {
+            m.duration
+        };
+        Ok(Outcomes {
+            cost_of_transport: cot,
+            cost_of_transport_cost_model: cot_cost,
+            stride_length,
+            step_width,
+            stride_frequency: speed / stride_length,
+            speed,
+            cycle_duration,
+            stance_fraction_right: frac(&contact_r),
+            stance_fraction_left: frac(&contact_l),
+            double_support_fraction: frac(&both),
+            stance_phases_right: phases,
+            vertical_grf_peaks_right: peaks,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn heel_strike_follows_the_reference_rule() {
+        // Swing (below) then stance: heel strike = first sample in stance.
+        assert_eq!(heel_strike(&[0.0, 0.0, 100.0, 300.0, 200.0]), Some(3));
+        // Stance then swing until the end: first sample above the threshold after a sample below.
+        assert_eq!(heel_strike(&[300.0, 200.0, 0.0, 0.0, 0.0]), None);
+        assert_eq!(heel_strike(&[0.0, 200.0, 300.0, 0.0, 0.0]), Some(2));
+        // Always in stance: no heel strike.
+        assert_eq!(heel_strike(&[300.0, 300.0]), None);
+    }
+}
