@@ -1,1 +1,47 @@
 //! stride's own pure-Rust primal-dual interior-point method.
+//!
+//! - [`algorithm`]: the barrier iteration (μ update, inertia correction, line search).
+//! - [`kkt`]: the condensed KKT matrix pattern and its assembly.
+//! - [`linsys`]: the swappable sparse symmetric linear solver (faer LDLᵀ).
+//! - [`lbfgs`]: the compact limited-memory BFGS Hessian and its low-rank KKT correction.
+//! - [`scaled`]: gradient-based problem scaling and evaluation accounting.
+
+pub mod algorithm;
+pub mod kkt;
+pub mod lbfgs;
+pub mod linsys;
+pub mod scaled;
+
+use crate::nlp::Nlp;
+use crate::solver::{ControlFlow, IterationRecord, SolveError, SolveResult, Solver, SolverOptions};
+use linsys::FaerLdlt;
+
+/// The interior-point solver with faer's sparse LDLᵀ as the KKT linear solver.
+#[derive(Debug, Clone, Default)]
+pub struct InteriorPoint;
+
+impl InteriorPoint {
+    /// A solver with default settings (options are passed to `solve`).
+    pub fn new() -> Self {
+        InteriorPoint
+    }
+}
+
+impl Solver for InteriorPoint {
+    fn name(&self) -> &str {
+        "stride-ipm"
+    }
+
+    fn solve(
+        &self,
+        nlp: &dyn Nlp,
+        options: &SolverOptions,
+        observer: &mut dyn FnMut(&IterationRecord) -> ControlFlow,
+    ) -> Result<SolveResult, SolveError> {
+        let mut linear = FaerLdlt::new();
+        algorithm::solve(nlp, options, observer, &mut linear)
+    }
+}
+
+#[cfg(test)]
+mod tests;

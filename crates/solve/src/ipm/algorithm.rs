@@ -1,0 +1,896 @@
+//! The primal-dual barrier iteration (after Wächter & Biegler 2006, with an ℓ₁-merit
+//! line search in place of the filter; see docs/decisions/0002-solver.md).
+//!
+//! Problem seen by the iteration (all quantities scaled, see [`ScaledNlp`]):
+//! variables w = (x, s) with slacks s for the inequality rows, bounds L <= w <= U, and
+//! equality residuals r(w) = c(x) − (g for equality rows, s for inequality rows) = 0.
+
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
+
+use crate::ipm::kkt::KktPattern;
+use crate::ipm::lbfgs::{dot, Lbfgs, LowRankCorrection};
+use crate::ipm::linsys::{Inertia, KktSolver};
+use crate::ipm::scaled::ScaledNlp;
+use crate::nlp::{validate_bounds, validate_structures, EvalError, Nlp};
+use crate::solver::{
+    HessianMode, IterationRecord, MuStrategy, SolveError, SolveResult, SolveStatus, SolverOptions,
+};
+
+const NO_SLACK: usize = usize::MAX;
+/// IPOPT's s_max for the scaled optimality error.
+const S_MAX: f64 = 100.0;
+/// Barrier-subproblem tolerance factor κ_ε.
+const KAPPA_EPS: f64 = 10.0;
+/// Linear μ decrease factor κ_μ.
+const KAPPA_MU: f64 = 0.2;
+/// Superlinear μ decrease exponent θ_μ.
+const THETA_MU: f64 = 1.5;
+/// Safeguard factor κ_Σ for the bound multipliers.
+const KAPPA_SIGMA: f64 = 1e10;
+/// Armijo constant.
+const ETA: f64 = 1e-4;
+/// Constant regularisation of the constraint block (quasi-definiteness).
+const DELTA_C: f64 = 1e-9;
+
+/// Iterate and workspace of one solve.
+struct State {
+    n: usize,
+    m: usize,
+    big_n: usize,
+    slack_of_row: Vec<usize>,
+    row_of_slack: Vec<usize>,
+    g_eq: Vec<f64>,
+    wl: Vec<f64>,
+    wu: Vec<f64>,
+    has_l: Vec<bool>,
+    has_u: Vec<bool>,
+    w: Vec<f64>,
+    lam: Vec<f64>,
+    zl: Vec<f64>,
+    zu: Vec<f64>,
+    f: f64,
+    grad: Vec<f64>,
+    c: Vec<f64>,
+    jv: Vec<f64>,
+    hv: Vec<f64>,
+}
+
+impl State {
+    fn residual(&self, w: &[f64], c: &[f64], r: &mut [f64]) {
+        for i in 0..self.m {
+            let k = self.slack_of_row[i];
+            r[i] = if k == NO_SLACK {
+                c[i] - self.g_eq[i]
+            } else {
+                c[i] - w[self.n + k]
+            };
+        }
+    }
+
+    /// ∇f + Aᵀλ over w (without the bound multipliers).
+    fn grad_lag_no_z(&self, jac_rows: &[usize], jac_cols: &[usize], out: &mut [f64]) {
+        out[..self.n].copy_from_slice(&self.grad);
+        out[self.n..].iter_mut().for_each(|v| *v = 0.0);
+        for k in 0..self.jv.len() {
+            out[jac_cols[k]] += self.jv[k] * self.lam[jac_rows[k]];
+        }
+        for (k, &i) in self.row_of_slack.iter().enumerate() {
+            out[self.n + k] -= self.lam[i];
+        }
+    }
+
+    /// f + barrier terms at (f, w).
+    fn barrier(&self, f: f64, w: &[f64], mu: f64) -> f64 {
+        let mut b = f;
+        for j in 0..self.big_n {
+            if self.has_l[j] {
+                b -= mu * (w[j] - self.wl[j]).ln();
+            }
+            if self.has_u[j] {
+                b -= mu * (self.wu[j] - w[j]).ln();
+            }
+        }
+        b
+    }
+
+    fn complementarity(&self, mu: f64) -> f64 {
+        let mut e = 0.0f64;
+        for j in 0..self.big_n {
+            if self.has_l[j] {
+                e = e.max(((self.w[j] - self.wl[j]) * self.zl[j] - mu).abs());
+            }
+            if self.has_u[j] {
+                e = e.max(((self.wu[j] - self.w[j]) * self.zu[j] - mu).abs());
+            }
+        }
+        e
+    }
+
+    fn average_complementarity(&self) -> f64 {
+        let (mut s, mut cnt) = (0.0, 0usize);
+        for j in 0..self.big_n {
+            if self.has_l[j] {
+                s += (self.w[j] - self.wl[j]) * self.zl[j];
+                cnt += 1;
+            }
+            if self.has_u[j] {
+                s += (self.wu[j] - self.w[j]) * self.zu[j];
+                cnt += 1;
+            }
+        }
+        if cnt == 0 {
+            0.0
+        } else {
+            s / cnt as f64
+        }
+    }
+}
+
+fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+fn one_norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x.abs()).sum()
+}
+
+/// Largest α in (0, 1] keeping v + α dv − lo >= (1 − τ)(v − lo) and hi − v − α dv likewise.
+fn fraction_to_boundary(st: &State, w: &[f64], dw: &[f64], tau: f64) -> f64 {
+    let mut a = 1.0f64;
+    for j in 0..st.big_n {
+        if st.has_l[j] && dw[j] < 0.0 {
+            a = a.min(-tau * (w[j] - st.wl[j]) / dw[j]);
+        }
+        if st.has_u[j] && dw[j] > 0.0 {
+            a = a.min(tau * (st.wu[j] - w[j]) / dw[j]);
+        }
+    }
+    a
+}
+
+fn dual_fraction_to_boundary(st: &State, dzl: &[f64], dzu: &[f64], tau: f64) -> f64 {
+    let mut a = 1.0f64;
+    for j in 0..st.big_n {
+        if st.has_l[j] && dzl[j] < 0.0 {
+            a = a.min(-tau * st.zl[j] / dzl[j]);
+        }
+        if st.has_u[j] && dzu[j] < 0.0 {
+            a = a.min(-tau * st.zu[j] / dzu[j]);
+        }
+    }
+    a
+}
+
+/// Runs the interior-point method on `nlp` with the given KKT linear solver.
+pub fn solve(
+    nlp: &dyn Nlp,
+    options: &SolverOptions,
+    observer: &mut dyn FnMut(&IterationRecord) -> ControlFlow<()>,
+    linear: &mut dyn KktSolver,
+) -> Result<SolveResult, SolveError> {
+    let start = Instant::now();
+    check_options(options)?;
+    let (n, m) = (nlp.n(), nlp.m());
+    let bounds = validate_bounds(nlp)?;
+    let structures = validate_structures(nlp)?;
+    let exact = matches!(options.hessian, HessianMode::Exact);
+    let mut prob = ScaledNlp::new(nlp, structures.jacobian, structures.hessian);
+
+    // ---- initial point, scaling, slacks --------------------------------------------------
+    let mut x0 = vec![0.0; n];
+    nlp.initial_point(&mut x0);
+    if let Some(i) = x0.iter().position(|v| !v.is_finite()) {
+        return Err(SolveError::InitialEvaluation(EvalError::Failed {
+            function: crate::nlp::NlpFunction::Objective,
+            reason: format!("initial point entry {i} is {}", x0[i]),
+        }));
+    }
+    let relax = |v: f64, sign: f64| v + sign * 1e-8 * v.abs().max(1.0);
+    let push = |lo: f64, hi: f64, v: f64| -> f64 {
+        let kappa = options.bound_push;
+        let mut v = v;
+        if lo.is_finite() {
+            let p = if hi.is_finite() {
+                (kappa * lo.abs().max(1.0)).min(kappa * (hi - lo))
+            } else {
+                kappa * lo.abs().max(1.0)
+            };
+            v = v.max(lo + p);
+        }
+        if hi.is_finite() {
+            let p = if lo.is_finite() {
+                (kappa * hi.abs().max(1.0)).min(kappa * (hi - lo))
+            } else {
+                kappa * hi.abs().max(1.0)
+            };
+            v = v.min(hi - p);
+        }
+        if lo.is_finite() && hi.is_finite() && !(v > lo && v < hi) {
+            v = 0.5 * (lo + hi);
+        }
+        v
+    };
+    let mut xl: Vec<f64> = bounds.x_l.iter().map(|&v| relax(v, -1.0)).collect();
+    let mut xu: Vec<f64> = bounds.x_u.iter().map(|&v| relax(v, 1.0)).collect();
+    for j in 0..n {
+        if !bounds.x_l[j].is_finite() {
+            xl[j] = f64::NEG_INFINITY;
+        }
+        if !bounds.x_u[j].is_finite() {
+            xu[j] = f64::INFINITY;
+        }
+        x0[j] = push(xl[j], xu[j], x0[j]);
+    }
+    if options.nlp_scaling {
+        prob.compute_gradient_scaling(&x0, options.nlp_scaling_max_gradient)
+            .map_err(SolveError::InitialEvaluation)?;
+    }
+    let mut slack_of_row = vec![NO_SLACK; m];
+    let mut row_of_slack = Vec::new();
+    let mut g_eq = vec![0.0; m];
+    for i in 0..m {
+        if bounds.g_l[i] == bounds.g_u[i] {
+            g_eq[i] = bounds.g_l[i] * prob.con_scale[i];
+        } else {
+            slack_of_row[i] = row_of_slack.len();
+            row_of_slack.push(i);
+        }
+    }
+    let ni = row_of_slack.len();
+    let big_n = n + ni;
+    let mut wl = xl.clone();
+    let mut wu = xu.clone();
+    for &i in &row_of_slack {
+        let s = prob.con_scale[i];
+        let (lo, hi) = (bounds.g_l[i] * s, bounds.g_u[i] * s);
+        wl.push(if lo.is_finite() { relax(lo, -1.0) } else { lo });
+        wu.push(if hi.is_finite() { relax(hi, 1.0) } else { hi });
+    }
+    let has_l: Vec<bool> = wl.iter().map(|v| v.is_finite()).collect();
+    let has_u: Vec<bool> = wu.iter().map(|v| v.is_finite()).collect();
+
+    let mut st = State {
+        n,
+        m,
+        big_n,
+        slack_of_row,
+        row_of_slack,
+        g_eq,
+        wl,
+        wu,
+        has_l,
+        has_u,
+        w: vec![0.0; big_n],
+        lam: vec![0.0; m],
+        zl: vec![0.0; big_n],
+        zu: vec![0.0; big_n],
+        f: 0.0,
+        grad: vec![0.0; n],
+        c: vec![0.0; m],
+        jv: vec![0.0; prob.jac.nnz()],
+        hv: vec![0.0; if exact { prob.hess.nnz() } else { 0 }],
+    };
+    st.w[..n].copy_from_slice(&x0);
+    let init = |e| SolveError::InitialEvaluation(e);
+    st.f = prob.objective(&x0).map_err(init)?;
+    prob.gradient(&x0, &mut st.grad).map_err(init)?;
+    prob.constraints(&x0, &mut st.c).map_err(init)?;
+    prob.jacobian(&x0, &mut st.jv).map_err(init)?;
+    for (k, &i) in st.row_of_slack.clone().iter().enumerate() {
+        st.w[n + k] = push(st.wl[n + k], st.wu[n + k], st.c[i]);
+    }
+    for j in 0..big_n {
+        st.zl[j] = if st.has_l[j] { 1.0 } else { 0.0 };
+        st.zu[j] = if st.has_u[j] { 1.0 } else { 0.0 };
+    }
+    if exact {
+        let (w, lam) = (st.w[..n].to_vec(), st.lam.clone());
+        prob.hessian(&w, 1.0, &lam, &mut st.hv).map_err(init)?;
+    }
+
+    // ---- KKT pattern and symbolic analysis ---------------------------------------------
+    let pattern = KktPattern::new(n, m, &prob.jac, if exact { Some(&prob.hess) } else { None });
+    let mut lin_time = Duration::ZERO;
+    let t = Instant::now();
+    linear
+        .analyse(pattern.dim, &pattern.col_ptr, &pattern.row_idx)
+        .map_err(|e| SolveError::Backend(e.to_string()))?;
+    let time_symbolic = t.elapsed();
+    lin_time += time_symbolic;
+
+    // ---- workspaces ----------------------------------------------------------------------
+    let dim = pattern.dim;
+    let mut kvals = vec![0.0; pattern.nnz()];
+    let mut diag_x = vec![0.0; n];
+    let mut d_c = vec![0.0; m];
+    let mut sigma = vec![0.0; big_n];
+    let mut rhs = vec![0.0; dim];
+    let mut r = vec![0.0; m];
+    let mut r_s = vec![0.0; ni];
+    let mut gl = vec![0.0; big_n];
+    let mut dw = vec![0.0; big_n];
+    let mut dlam = vec![0.0; m];
+    let mut dzl = vec![0.0; big_n];
+    let mut dzu = vec![0.0; big_n];
+    let mut wt = vec![0.0; big_n];
+    let mut ct = vec![0.0; m];
+    let mut rt = vec![0.0; m];
+    let mut lbfgs = match options.hessian {
+        HessianMode::LimitedMemory { history } => Some(Lbfgs::new(history)),
+        HessianMode::Exact => None,
+    };
+    let mut prev_x = vec![0.0; n];
+    let mut prev_grad_lag = vec![0.0; n];
+    let mut tmp_n = vec![0.0; n];
+
+    let mut mu = options.mu_init;
+    let mut tau;
+    let mut nu = 1.0f64;
+    let mut delta_w_last = 0.0f64;
+    let mut factorizations = 0usize;
+    let mut log: Vec<IterationRecord> = Vec::new();
+    let mut acceptable_count = 0usize;
+    let mut ls_failures = 0usize;
+    let mut theta_hist: Vec<f64> = Vec::new();
+    let mut adaptive = matches!(options.mu_strategy, MuStrategy::Adaptive);
+    let status: SolveStatus;
+    let mut iter = 0usize;
+    let mut last_rec = IterationRecord::default();
+    let mut infeasible_stall = 0usize;
+
+    loop {
+        // ---- optimality error --------------------------------------------------------------
+        st.residual(&st.w, &st.c, &mut r);
+        st.grad_lag_no_z(&prob.jac.rows, &prob.jac.cols, &mut gl);
+        for j in 0..big_n {
+            gl[j] += st.zu[j] - st.zl[j];
+        }
+        let inf_du = inf_norm(&gl);
+        let inf_pr = inf_norm(&r);
+        let zsum = one_norm(&st.zl) + one_norm(&st.zu);
+        let s_d = (S_MAX.max((one_norm(&st.lam) + zsum) / (m + 2 * big_n).max(1) as f64)) / S_MAX;
+        let s_c = (S_MAX.max(zsum / (2 * big_n).max(1) as f64)) / S_MAX;
+        let err0 = (inf_du / s_d)
+            .max(inf_pr)
+            .max(st.complementarity(0.0) / s_c);
+        let inf_pr_u = r
+            .iter()
+            .zip(&prob.con_scale)
+            .map(|(v, s)| (v / s).abs())
+            .fold(0.0, f64::max);
+        let inf_du_u = inf_du / prob.obj_scale;
+        let compl_u = st.complementarity(0.0) / prob.obj_scale;
+        let rec = IterationRecord {
+            iter,
+            objective: st.f / prob.obj_scale,
+            inf_pr: inf_pr_u,
+            inf_du: inf_du_u,
+            mu,
+            elapsed: start.elapsed(),
+            ..last_rec.clone()
+        };
+        if options.print_level >= 2 {
+            eprintln!(
+                "{:5} {:+.8e} {:.2e} {:.2e} {:.1e} {:.2e} {:.2e} {:.2e} {:.1e} {}",
+                rec.iter,
+                rec.objective,
+                rec.inf_pr,
+                rec.inf_du,
+                rec.mu,
+                rec.step_norm,
+                rec.alpha_pr,
+                rec.alpha_du,
+                rec.regularisation,
+                rec.ls_trials
+            );
+        }
+        log.push(rec.clone());
+        if observer(&rec).is_break() {
+            status = SolveStatus::Interrupted;
+            break;
+        }
+        if err0 <= options.tol
+            && inf_pr_u <= options.constr_viol_tol
+            && inf_du_u <= options.dual_inf_tol
+            && compl_u <= options.compl_inf_tol
+        {
+            status = SolveStatus::Optimal;
+            break;
+        }
+        if err0 <= options.acceptable_tol && inf_pr_u <= 1e-2 && compl_u <= 1e-2 {
+            acceptable_count += 1;
+            if acceptable_count >= options.acceptable_iter {
+                status = SolveStatus::Acceptable;
+                break;
+            }
+        } else {
+            acceptable_count = 0;
+        }
+        if iter >= options.max_iter {
+            status = SolveStatus::MaxIterations;
+            break;
+        }
+        if let Some(limit) = options.time_limit {
+            if start.elapsed() >= limit {
+                status = SolveStatus::TimeLimit;
+                break;
+            }
+        }
+        if inf_norm(&st.w[..n]) > 1e20 {
+            status = SolveStatus::Diverging;
+            break;
+        }
+        // Infeasibility: constraint violation stalls while the projected gradient of ½‖r‖²
+        // vanishes relative to ‖r‖.
+        theta_hist.push(one_norm(&r));
+        if iter > 30 && inf_pr_u > options.constr_viol_tol.max(options.tol) {
+            let h = theta_hist.len();
+            let recent = theta_hist[h - 10..]
+                .iter()
+                .cloned()
+                .fold(f64::INFINITY, f64::min);
+            let older = theta_hist[..h - 10]
+                .iter()
+                .cloned()
+                .fold(f64::INFINITY, f64::min);
+            let stalled = recent >= 0.999 * older;
+            // projected Aᵀr
+            gl.iter_mut().for_each(|v| *v = 0.0);
+            for k in 0..st.jv.len() {
+                gl[prob.jac.cols[k]] += st.jv[k] * r[prob.jac.rows[k]];
+            }
+            for (k, &i) in st.row_of_slack.iter().enumerate() {
+                gl[n + k] -= r[i];
+            }
+            let mut pg = 0.0f64;
+            for j in 0..big_n {
+                let near_l = st.has_l[j] && st.w[j] - st.wl[j] < 1e-4 * st.wl[j].abs().max(1.0);
+                let near_u = st.has_u[j] && st.wu[j] - st.w[j] < 1e-4 * st.wu[j].abs().max(1.0);
+                let g = gl[j];
+                if (g > 0.0 && near_l) || (g < 0.0 && near_u) {
+                    continue;
+                }
+                pg = pg.max(g.abs());
+            }
+            if stalled && pg <= 1e-3 * inf_norm(&r).max(1e-12) {
+                infeasible_stall += 1;
+            } else {
+                infeasible_stall = 0;
+            }
+            if infeasible_stall >= 3 || (stalled && ls_failures >= 3) {
+                status = SolveStatus::Infeasible;
+                break;
+            }
+        }
+
+        // ---- monotone barrier update ------------------------------------------------------
+        if !adaptive {
+            for _ in 0..20 {
+                let s_c_mu = st.complementarity(mu) / s_c;
+                let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
+                if err_mu > KAPPA_EPS * mu || mu <= options.tol / 10.0 {
+                    break;
+                }
+                mu = (options.tol / 10.0).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
+            }
+        }
+
+        // ---- KKT matrix: Σ and factorisation with inertia correction -------------------------
+        for j in 0..big_n {
+            let mut s = 0.0;
+            if st.has_l[j] {
+                s += st.zl[j] / (st.w[j] - st.wl[j]);
+            }
+            if st.has_u[j] {
+                s += st.zu[j] / (st.wu[j] - st.w[j]);
+            }
+            sigma[j] = s;
+        }
+        let b0 = lbfgs.as_ref().map_or(0.0, |l| l.sigma);
+        for i in 0..m {
+            let k = st.slack_of_row[i];
+            d_c[i] = if k == NO_SLACK {
+                DELTA_C
+            } else {
+                1.0 / sigma[n + k].max(1e-20) + DELTA_C
+            };
+        }
+        let mut delta_w = 0.0f64;
+        let t_lin = Instant::now();
+        let mut ok = false;
+        for _ in 0..60 {
+            for j in 0..n {
+                diag_x[j] = sigma[j] + delta_w + b0;
+            }
+            pattern.assemble(&mut kvals, &st.hv, &st.jv, &diag_x, &d_c);
+            let inertia = linear
+                .factor(&kvals)
+                .map_err(|e| SolveError::Backend(e.to_string()))?;
+            factorizations += 1;
+            if inertia
+                == (Inertia {
+                    positive: n,
+                    negative: m,
+                    zero: 0,
+                })
+            {
+                ok = true;
+                break;
+            }
+            delta_w = if delta_w == 0.0 {
+                if delta_w_last == 0.0 {
+                    1e-4
+                } else {
+                    (delta_w_last / 3.0).max(1e-20)
+                }
+            } else if delta_w_last == 0.0 {
+                delta_w * 100.0
+            } else {
+                delta_w * 8.0
+            };
+            if delta_w > 1e40 {
+                break;
+            }
+        }
+        lin_time += t_lin.elapsed();
+        if !ok {
+            status = SolveStatus::Failed("KKT matrix could not be regularised".into());
+            break;
+        }
+        if delta_w > 0.0 {
+            delta_w_last = delta_w;
+        }
+        let correction = match &lbfgs {
+            Some(lb) if !lb.is_empty() => {
+                let t_lin = Instant::now();
+                let c = LowRankCorrection::new(lb, n, dim, |v| linear.solve(v).is_ok());
+                lin_time += t_lin.elapsed();
+                c
+            }
+            _ => None,
+        };
+
+        // ---- Newton direction (solves for a given μ) -----------------------------------------
+        let mut direction = |st: &State,
+                             mu: f64,
+                             rhs: &mut [f64],
+                             dw: &mut [f64],
+                             dlam: &mut [f64],
+                             lin_time: &mut Duration|
+         -> Result<(), SolveError> {
+            // first block: −(∇f + Jᵀλ − μ/(x−L) + μ/(U−x)); slack part r_s
+            rhs[..n].copy_from_slice(&st.grad);
+            for k in 0..st.jv.len() {
+                rhs[prob.jac.cols[k]] += st.jv[k] * st.lam[prob.jac.rows[k]];
+            }
+            for j in 0..big_n {
+                let mut b = 0.0;
+                if st.has_l[j] {
+                    b -= mu / (st.w[j] - st.wl[j]);
+                }
+                if st.has_u[j] {
+                    b += mu / (st.wu[j] - st.w[j]);
+                }
+                if j < n {
+                    rhs[j] = -(rhs[j] + b);
+                } else {
+                    r_s[j - n] = -st.lam[st.row_of_slack[j - n]] + b;
+                }
+            }
+            for i in 0..m {
+                let k = st.slack_of_row[i];
+                rhs[n + i] = if k == NO_SLACK {
+                    -r[i]
+                } else {
+                    -r[i] - r_s[k] / sigma[n + k].max(1e-20)
+                };
+            }
+            let t = Instant::now();
+            linear
+                .solve(rhs)
+                .map_err(|e| SolveError::Backend(e.to_string()))?;
+            if let Some(c) = &correction {
+                c.apply(rhs);
+            }
+            *lin_time += t.elapsed();
+            dw[..n].copy_from_slice(&rhs[..n]);
+            dlam.copy_from_slice(&rhs[n..]);
+            for (k, &i) in st.row_of_slack.iter().enumerate() {
+                dw[n + k] = (dlam[i] - r_s[k]) / sigma[n + k].max(1e-20);
+            }
+            Ok(())
+        };
+
+        // ---- adaptive μ: Mehrotra probing with the affine-scaling direction ---------------
+        if adaptive {
+            direction(&st, 0.0, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+            for j in 0..big_n {
+                dzl[j] = if st.has_l[j] {
+                    -st.zl[j] - st.zl[j] / (st.w[j] - st.wl[j]) * dw[j]
+                } else {
+                    0.0
+                };
+                dzu[j] = if st.has_u[j] {
+                    -st.zu[j] + st.zu[j] / (st.wu[j] - st.w[j]) * dw[j]
+                } else {
+                    0.0
+                };
+            }
+            let ap = fraction_to_boundary(&st, &st.w, &dw, 1.0);
+            let ad = dual_fraction_to_boundary(&st, &dzl, &dzu, 1.0);
+            let (mut s, mut cnt) = (0.0, 0usize);
+            for j in 0..big_n {
+                if st.has_l[j] {
+                    s += (st.w[j] + ap * dw[j] - st.wl[j]) * (st.zl[j] + ad * dzl[j]);
+                    cnt += 1;
+                }
+                if st.has_u[j] {
+                    s += (st.wu[j] - st.w[j] - ap * dw[j]) * (st.zu[j] + ad * dzu[j]);
+                    cnt += 1;
+                }
+            }
+            let avg = st.average_complementarity();
+            if cnt > 0 && avg > 0.0 {
+                let aff = (s / cnt as f64).max(0.0);
+                let sig = (aff / avg).powi(3).min(1.0);
+                mu = (sig * avg).clamp(options.tol / 10.0, 1e5);
+            } else {
+                mu = options.tol / 10.0;
+            }
+        }
+        tau = (1.0 - mu).max(0.99);
+        direction(&st, mu, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+        for j in 0..big_n {
+            dzl[j] = if st.has_l[j] {
+                let sl = st.w[j] - st.wl[j];
+                mu / sl - st.zl[j] - st.zl[j] / sl * dw[j]
+            } else {
+                0.0
+            };
+            dzu[j] = if st.has_u[j] {
+                let su = st.wu[j] - st.w[j];
+                mu / su - st.zu[j] + st.zu[j] / su * dw[j]
+            } else {
+                0.0
+            };
+        }
+        let alpha_max = fraction_to_boundary(&st, &st.w, &dw, tau);
+        let alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
+
+        // ---- ℓ₁-merit backtracking line search ----------------------------------------------
+        let theta1 = one_norm(&r);
+        let mut gphi_d = dot(&st.grad, &dw[..n]);
+        for j in 0..big_n {
+            if st.has_l[j] {
+                gphi_d -= mu / (st.w[j] - st.wl[j]) * dw[j];
+            }
+            if st.has_u[j] {
+                gphi_d += mu / (st.wu[j] - st.w[j]) * dw[j];
+            }
+        }
+        if theta1 > 0.0 {
+            let need = gphi_d / (0.9 * theta1);
+            if need > nu {
+                nu = (1.5 * need).max(nu);
+            }
+        }
+        let dphi = (gphi_d - nu * theta1).min(0.0);
+        let phi0 = st.barrier(st.f, &st.w, mu) + nu * theta1;
+        let mut alpha = alpha_max;
+        let mut trials = 0usize;
+        let mut accepted = false;
+        let mut f_t = st.f;
+        let wnorm = inf_norm(&st.w).max(1.0);
+        let dnorm = inf_norm(&dw);
+        while trials < 40 {
+            trials += 1;
+            for j in 0..big_n {
+                wt[j] = st.w[j] + alpha * dw[j];
+            }
+            let tiny = alpha * dnorm <= 10.0 * f64::EPSILON * wnorm;
+            let ev = prob
+                .objective(&wt[..n])
+                .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f));
+            if let Ok(f) = ev {
+                st.residual(&wt, &ct, &mut rt);
+                let phi = st.barrier(f, &wt, mu) + nu * one_norm(&rt);
+                if phi.is_finite() && (phi <= phi0 + ETA * alpha * dphi || tiny) {
+                    f_t = f;
+                    accepted = true;
+                    break;
+                }
+            }
+            if tiny {
+                break;
+            }
+            alpha *= 0.5;
+        }
+        if accepted {
+            ls_failures = 0;
+        } else {
+            ls_failures += 1;
+            if adaptive {
+                adaptive = false;
+                mu = mu.max(st.average_complementarity());
+            }
+            if ls_failures >= 8 {
+                status = if inf_pr_u > options.constr_viol_tol {
+                    SolveStatus::Infeasible
+                } else {
+                    SolveStatus::SmallStep
+                };
+                break;
+            }
+            // take a small step anyway to get away from the stuck point
+            alpha = alpha_max.min(1e-3);
+            for j in 0..big_n {
+                wt[j] = st.w[j] + alpha * dw[j];
+            }
+            match prob
+                .objective(&wt[..n])
+                .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f))
+            {
+                Ok(f) => f_t = f,
+                Err(_) => {
+                    status = SolveStatus::Failed(
+                        "function evaluation failed along the search direction".into(),
+                    );
+                    break;
+                }
+            }
+        }
+
+        // ---- accept the step --------------------------------------------------------------
+        if lbfgs.is_some() {
+            prev_x.copy_from_slice(&st.w[..n]);
+        }
+        st.w.copy_from_slice(&wt);
+        st.f = f_t;
+        st.c.copy_from_slice(&ct);
+        for i in 0..m {
+            st.lam[i] += alpha * dlam[i];
+        }
+        for j in 0..big_n {
+            if st.has_l[j] {
+                let sl = st.w[j] - st.wl[j];
+                st.zl[j] = (st.zl[j] + alpha_z * dzl[j])
+                    .clamp(mu / (KAPPA_SIGMA * sl), KAPPA_SIGMA * mu / sl);
+            }
+            if st.has_u[j] {
+                let su = st.wu[j] - st.w[j];
+                st.zu[j] = (st.zu[j] + alpha_z * dzu[j])
+                    .clamp(mu / (KAPPA_SIGMA * su), KAPPA_SIGMA * mu / su);
+            }
+        }
+        if lbfgs.is_some() {
+            // ∇ₓL(x_old, λ_new) with the old gradient and Jacobian
+            prev_grad_lag.copy_from_slice(&st.grad);
+            for k in 0..st.jv.len() {
+                prev_grad_lag[prob.jac.cols[k]] += st.jv[k] * st.lam[prob.jac.rows[k]];
+            }
+        }
+        let x_new = st.w[..n].to_vec();
+        let ev = prob
+            .gradient(&x_new, &mut st.grad)
+            .and_then(|_| prob.jacobian(&x_new, &mut st.jv));
+        if let Err(e) = ev {
+            status = SolveStatus::Failed(format!("derivative evaluation failed: {e}"));
+            break;
+        }
+        if exact {
+            if let Err(e) = prob.hessian(&x_new, 1.0, &st.lam.clone(), &mut st.hv) {
+                status = SolveStatus::Failed(format!("Hessian evaluation failed: {e}"));
+                break;
+            }
+        }
+        if let Some(lb) = &mut lbfgs {
+            tmp_n.copy_from_slice(&st.grad);
+            for k in 0..st.jv.len() {
+                tmp_n[prob.jac.cols[k]] += st.jv[k] * st.lam[prob.jac.rows[k]];
+            }
+            let s_vec: Vec<f64> = x_new.iter().zip(&prev_x).map(|(a, b)| a - b).collect();
+            let y_vec: Vec<f64> = tmp_n
+                .iter()
+                .zip(&prev_grad_lag)
+                .map(|(a, b)| a - b)
+                .collect();
+            lb.update(&s_vec, &y_vec);
+        }
+        iter += 1;
+        last_rec = IterationRecord {
+            step_norm: alpha * dnorm,
+            alpha_pr: alpha,
+            alpha_du: alpha_z,
+            regularisation: delta_w,
+            ls_trials: trials,
+            ..Default::default()
+        };
+    }
+
+    // ---- result (unscaled) ---------------------------------------------------------------
+    st.residual(&st.w, &st.c, &mut r);
+    let constraint_violation = r
+        .iter()
+        .zip(&prob.con_scale)
+        .map(|(v, s)| (v / s).abs())
+        .fold(0.0, f64::max);
+    // Inequality rows: report the violation of g_l <= c <= g_u rather than c − s.
+    let mut viol = 0.0f64;
+    for i in 0..m {
+        let ci = st.c[i] / prob.con_scale[i];
+        viol = viol.max(bounds.g_l[i] - ci).max(ci - bounds.g_u[i]);
+    }
+    let constraint_violation = if ni > 0 {
+        viol.max(0.0)
+    } else {
+        constraint_violation
+    };
+    st.grad_lag_no_z(&prob.jac.rows, &prob.jac.cols, &mut gl);
+    for j in 0..big_n {
+        gl[j] += st.zu[j] - st.zl[j];
+    }
+    let dual_infeasibility = inf_norm(&gl[..n]) / prob.obj_scale;
+    let sf = prob.obj_scale;
+    let lambda: Vec<f64> = st
+        .lam
+        .iter()
+        .zip(&prob.con_scale)
+        .map(|(l, s)| l * s / sf)
+        .collect();
+    let result = SolveResult {
+        status,
+        iterations: iter,
+        objective: st.f / sf,
+        constraint_violation,
+        dual_infeasibility,
+        x: st.w[..n].to_vec(),
+        lambda,
+        z_l: st.zl[..n].iter().map(|z| z / sf).collect(),
+        z_u: st.zu[..n].iter().map(|z| z / sf).collect(),
+        time_total: start.elapsed(),
+        time_evaluations: prob.eval_time,
+        time_linear_solver: lin_time,
+        time_symbolic,
+        factorizations,
+        objective_evaluations: prob.n_obj,
+        log,
+    };
+    if options.print_level >= 1 {
+        eprintln!(
+            "stride-ipm: {:?} after {} iterations, f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s)",
+            result.status,
+            result.iterations,
+            result.objective,
+            result.constraint_violation,
+            result.time_total.as_secs_f64(),
+            result.time_evaluations.as_secs_f64(),
+            result.time_linear_solver.as_secs_f64()
+        );
+    }
+    Ok(result)
+}
+
+fn check_options(o: &SolverOptions) -> Result<(), SolveError> {
+    let bad = |name: &'static str, reason: &str| {
+        Err(SolveError::InvalidOption {
+            name,
+            reason: reason.to_string(),
+        })
+    };
+    if !(o.tol > 0.0) {
+        return bad("tol", "must be positive");
+    }
+    if !(o.mu_init > 0.0) {
+        return bad("mu_init", "must be positive");
+    }
+    if !(o.bound_push > 0.0 && o.bound_push < 0.5) {
+        return bad("bound_push", "must be in (0, 0.5)");
+    }
+    if let HessianMode::LimitedMemory { history } = o.hessian {
+        if history == 0 {
+            return bad("hessian", "limited-memory history must be at least 1");
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,265 @@
+//! Sparse symmetric (quasi-definite) KKT linear solvers behind a small trait.
+//!
+//! The KKT matrix is given by its lower triangle in compressed sparse column form with a
+//! fixed pattern: symbolic analysis (fill-reducing ordering, elimination tree, supernodes)
+//! happens once in [`KktSolver::analyse`], numeric factorisation every iteration in
+//! [`KktSolver::factor`], which also reports the inertia (signs of the pivots of LDLᵀ).
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::ldlt::factor::{LdltParams, LdltRegularization};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, CholeskySymbolicParams, LdltRef,
+    SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side, Spec};
+use thiserror::Error;
+
+/// Errors of a KKT linear solver.
+#[derive(Debug, Clone, Error, PartialEq)]
+pub enum LinearSolverError {
+    /// The pattern was rejected by the symbolic analysis.
+    #[error("symbolic analysis of the KKT matrix failed: {0}")]
+    Symbolic(String),
+    /// `factor` or `solve` called before `analyse` / `factor`.
+    #[error("KKT solver used before {0}")]
+    NotReady(&'static str),
+}
+
+/// Number of positive, negative and zero pivots of a factorised symmetric matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Inertia {
+    /// Positive pivots.
+    pub positive: usize,
+    /// Negative pivots.
+    pub negative: usize,
+    /// Zero (or failed) pivots.
+    pub zero: usize,
+}
+
+/// A sparse symmetric linear solver for the KKT system (lower triangle, CSC).
+pub trait KktSolver: Send {
+    /// Short name for logs and benchmarks.
+    fn name(&self) -> &str;
+    /// Symbolic analysis of the fixed lower-triangular pattern (dimension `dim`).
+    fn analyse(
+        &mut self,
+        dim: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+    ) -> Result<(), LinearSolverError>;
+    /// Numeric factorisation with the given values (same order as `row_idx`); returns the
+    /// inertia of the matrix.
+    fn factor(&mut self, values: &[f64]) -> Result<Inertia, LinearSolverError>;
+    /// Solves in place with the last factorisation.
+    fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearSolverError>;
+    /// Number of nonzeros in the factor L (0 if unknown).
+    fn factor_nnz(&self) -> usize {
+        0
+    }
+}
+
+/// faer's sparse LDLᵀ (AMD ordering, supernodal or simplicial by faer's flop heuristic),
+/// without pivoting: meant for quasi-definite (regularised) KKT matrices.
+pub struct FaerLdlt {
+    dim: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    symbolic: Option<SymbolicCholesky<usize>>,
+    l_values: Vec<f64>,
+    buffer: MemBuffer,
+    factored: bool,
+}
+
+impl Default for FaerLdlt {
+    fn default() -> Self {
+        FaerLdlt {
+            dim: 0,
+            col_ptr: Vec::new(),
+            row_idx: Vec::new(),
+            symbolic: None,
+            l_values: Vec::new(),
+            buffer: MemBuffer::new(StackReq::empty()),
+            factored: false,
+        }
+    }
+}
+
+impl FaerLdlt {
+    /// A solver with no analysed pattern yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn inertia_of_d(&self) -> Inertia {
+        let mut inertia = Inertia::default();
+        let mut count = |d: f64| {
+            if d > 0.0 {
+                inertia.positive += 1
+            } else if d < 0.0 {
+                inertia.negative += 1
+            } else {
+                inertia.zero += 1
+            }
+        };
+        let Some(sym) = &self.symbolic else {
+            return inertia;
+        };
+        match sym.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let l = SupernodalLdltRef::new(s, &self.l_values);
+                for k in 0..s.n_supernodes() {
+                    let node = l.supernode(k);
+                    let v = node.val();
+                    for j in 0..v.ncols() {
+                        count(v[(j, j)]);
+                    }
+                }
+            }
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let cp = s.col_ptr();
+                let ri = s.row_idx();
+                for j in 0..s.ncols() {
+                    for p in cp[j]..cp[j + 1] {
+                        if ri[p] == j {
+                            count(self.l_values[p]);
+                        }
+                    }
+                }
+            }
+        }
+        inertia
+    }
+}
+
+impl KktSolver for FaerLdlt {
+    fn name(&self) -> &str {
+        "faer-ldlt"
+    }
+
+    fn analyse(
+        &mut self,
+        dim: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+    ) -> Result<(), LinearSolverError> {
+        self.dim = dim;
+        self.col_ptr = col_ptr.to_vec();
+        self.row_idx = row_idx.to_vec();
+        let a = SymbolicSparseColMatRef::new_unsorted_checked(
+            dim,
+            dim,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
+        let sym = factorize_symbolic_cholesky(
+            a,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| LinearSolverError::Symbolic(format!("{e:?}")))?;
+        self.l_values = vec![0.0; sym.len_val()];
+        let req = StackReq::any_of(&[
+            sym.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Spec::<LdltParams, f64>::default()),
+            sym.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]);
+        self.buffer = MemBuffer::new(req);
+        self.symbolic = Some(sym);
+        self.factored = false;
+        Ok(())
+    }
+
+    fn factor(&mut self, values: &[f64]) -> Result<Inertia, LinearSolverError> {
+        let sym = self
+            .symbolic
+            .as_ref()
+            .ok_or(LinearSolverError::NotReady("analyse"))?;
+        let a_sym = SymbolicSparseColMatRef::new_unsorted_checked(
+            self.dim,
+            self.dim,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
+        let a = SparseColMatRef::new(a_sym, values);
+        let stack = MemStack::new(&mut self.buffer);
+        let res = sym.factorize_numeric_ldlt(
+            &mut self.l_values,
+            a,
+            Side::Lower,
+            LdltRegularization::default(),
+            Par::Seq,
+            stack,
+            Spec::<LdltParams, f64>::default(),
+        );
+        match res {
+            Ok(_) => {
+                self.factored = true;
+                let inertia = self.inertia_of_d();
+                let bad = self.l_values.iter().any(|v| !v.is_finite());
+                if bad {
+                    self.factored = false;
+                    return Ok(Inertia {
+                        positive: 0,
+                        negative: 0,
+                        zero: self.dim,
+                    });
+                }
+                Ok(inertia)
+            }
+            Err(_) => {
+                self.factored = false;
+                Ok(Inertia {
+                    positive: 0,
+                    negative: 0,
+                    zero: self.dim,
+                })
+            }
+        }
+    }
+
+    fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearSolverError> {
+        if !self.factored {
+            return Err(LinearSolverError::NotReady("a successful factorisation"));
+        }
+        let sym = self
+            .symbolic
+            .as_ref()
+            .ok_or(LinearSolverError::NotReady("analyse"))?;
+        let l = LdltRef::new(sym, &self.l_values);
+        let n = rhs.len();
+        let mat = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        let stack = MemStack::new(&mut self.buffer);
+        l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
+        Ok(())
+    }
+
+    fn factor_nnz(&self) -> usize {
+        self.l_values.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_small_quasi_definite_system_and_counts_inertia() {
+        // K = [[4, 1, 1], [1, 3, 2], [1, 2, -1]] (lower triangle), inertia (2, 1).
+        let col_ptr = [0, 3, 5, 6];
+        let row_idx = [0, 1, 2, 1, 2, 2];
+        let vals = [4.0, 1.0, 1.0, 3.0, 2.0, -1.0];
+        let mut s = FaerLdlt::new();
+        s.analyse(3, &col_ptr, &row_idx).unwrap();
+        let inertia = s.factor(&vals).unwrap();
+        assert_eq!((inertia.positive, inertia.negative), (2, 1));
+        // x = (1, 2, 3): b = K x = (4+2+3, 1+6+6, 1+4-3) = (9, 13, 2)
+        let mut b = [9.0, 13.0, 2.0];
+        s.solve(&mut b).unwrap();
+        for (got, want) in b.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        }
+    }
+}

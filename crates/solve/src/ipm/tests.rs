@@ -1,0 +1,346 @@
+//! End-to-end tests of the interior-point method against published optima and bad input.
+
+use std::ops::ControlFlow;
+
+use crate::ipm::InteriorPoint;
+use crate::nlp::{EvalError, Nlp, NlpError, NlpFunction, Sparsity};
+use crate::problems::{Hs006, Hs021, Hs035, Hs071, InfeasibleDisk, PendulumChain, RosenbrockDisk};
+use crate::solver::{
+    HessianMode, MuStrategy, SolveError, SolveResult, SolveStatus, Solver, SolverOptions,
+};
+
+fn run(nlp: &dyn Nlp, opts: &SolverOptions) -> SolveResult {
+    InteriorPoint::new()
+        .solve(nlp, opts, &mut |_| ControlFlow::Continue(()))
+        .expect("solve returned an error")
+}
+
+fn check(name: &str, nlp: &dyn Nlp, opts: &SolverOptions, f_opt: f64, x_opt: &[f64]) {
+    let r = run(nlp, opts);
+    assert!(
+        r.status.is_success(),
+        "{name}: status {:?} after {} iterations (f = {})",
+        r.status,
+        r.iterations,
+        r.objective
+    );
+    assert!(
+        (r.objective - f_opt).abs() <= 1e-6 * f_opt.abs().max(1.0),
+        "{name}: f = {} vs published {f_opt}",
+        r.objective
+    );
+    for (i, (a, b)) in r.x.iter().zip(x_opt).enumerate() {
+        assert!(
+            (a - b).abs() <= 1e-4 * b.abs().max(1.0),
+            "{name}: x[{i}] = {a} vs {b}"
+        );
+    }
+    assert!(
+        r.constraint_violation <= 1e-6,
+        "{name}: violation {}",
+        r.constraint_violation
+    );
+}
+
+fn all_options() -> Vec<(&'static str, SolverOptions)> {
+    let exact = SolverOptions::default();
+    let adaptive = SolverOptions {
+        mu_strategy: MuStrategy::Adaptive,
+        ..SolverOptions::default()
+    };
+    let lbfgs = SolverOptions {
+        hessian: HessianMode::LimitedMemory { history: 6 },
+        max_iter: 500,
+        ..SolverOptions::default()
+    };
+    vec![("exact", exact), ("adaptive", adaptive), ("l-bfgs", lbfgs)]
+}
+
+#[test]
+fn solves_hs071_to_published_optimum() {
+    for (mode, o) in all_options() {
+        check(
+            &format!("HS071/{mode}"),
+            &Hs071,
+            &o,
+            Hs071::F_OPT,
+            &Hs071::X_OPT,
+        );
+    }
+}
+
+#[test]
+fn solves_rosenbrock_on_disk() {
+    for (mode, o) in all_options() {
+        check(
+            &format!("Rosenbrock/{mode}"),
+            &RosenbrockDisk,
+            &o,
+            RosenbrockDisk::F_OPT,
+            &RosenbrockDisk::X_OPT,
+        );
+    }
+}
+
+#[test]
+fn solves_hs035_hs021_hs006() {
+    for (mode, o) in all_options() {
+        check(
+            &format!("HS035/{mode}"),
+            &Hs035,
+            &o,
+            Hs035::F_OPT,
+            &Hs035::X_OPT,
+        );
+        check(
+            &format!("HS021/{mode}"),
+            &Hs021,
+            &o,
+            Hs021::F_OPT,
+            &Hs021::X_OPT,
+        );
+        check(
+            &format!("HS006/{mode}"),
+            &Hs006,
+            &o,
+            Hs006::F_OPT,
+            &Hs006::X_OPT,
+        );
+    }
+}
+
+#[test]
+fn reports_infeasible_problem() {
+    let r = run(&InfeasibleDisk, &SolverOptions::default());
+    assert_eq!(
+        r.status,
+        SolveStatus::Infeasible,
+        "after {} iterations",
+        r.iterations
+    );
+    // The least-violation point of the disk towards x + y = 3 is (1/√2, 1/√2).
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    assert!(
+        (r.x[0] - s).abs() < 5e-2 && (r.x[1] - s).abs() < 5e-2,
+        "x = {:?}",
+        r.x
+    );
+}
+
+#[test]
+fn collocation_problem_converges_and_satisfies_dynamics() {
+    let p = PendulumChain::new(3, 40);
+    for (mode, o) in all_options() {
+        let o = SolverOptions {
+            max_iter: 1000,
+            ..o
+        };
+        let r = run(&p, &o);
+        assert!(
+            r.status.is_success(),
+            "{mode}: {:?} after {}",
+            r.status,
+            r.iterations
+        );
+        assert!(
+            r.constraint_violation < 1e-6,
+            "{mode}: {}",
+            r.constraint_violation
+        );
+        assert!(r.objective > 0.0);
+    }
+}
+
+#[test]
+fn collocation_cost_converges_with_mesh_refinement() {
+    // Radau IIA (order 5) cost must agree closely between N = 40 and N = 80.
+    let a = run(&PendulumChain::new(2, 40), &SolverOptions::default());
+    let b = run(&PendulumChain::new(2, 80), &SolverOptions::default());
+    assert!(a.status.is_success() && b.status.is_success());
+    let rel = (a.objective - b.objective).abs() / b.objective;
+    assert!(rel < 1e-3, "{} vs {} (rel {rel})", a.objective, b.objective);
+}
+
+#[test]
+fn observer_can_interrupt_and_log_is_kept() {
+    let mut calls = 0;
+    let r = InteriorPoint::new()
+        .solve(&Hs071, &SolverOptions::default(), &mut |rec| {
+            calls += 1;
+            if rec.iter >= 2 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        })
+        .unwrap();
+    assert_eq!(r.status, SolveStatus::Interrupted);
+    assert_eq!(calls, 3);
+    assert_eq!(r.log.len(), 3);
+}
+
+#[test]
+fn max_iterations_is_reported() {
+    let o = SolverOptions {
+        max_iter: 2,
+        ..SolverOptions::default()
+    };
+    assert_eq!(run(&Hs071, &o).status, SolveStatus::MaxIterations);
+}
+
+/// A wrapper that breaks one aspect of HS071.
+struct Broken {
+    kind: u8,
+}
+
+impl Nlp for Broken {
+    fn n(&self) -> usize {
+        4
+    }
+    fn m(&self) -> usize {
+        2
+    }
+    fn bounds(&self, x_l: &mut [f64], x_u: &mut [f64], g_l: &mut [f64], g_u: &mut [f64]) {
+        Hs071.bounds(x_l, x_u, g_l, g_u);
+        if self.kind == 0 {
+            x_l[2] = 6.0;
+        }
+    }
+    fn initial_point(&self, x: &mut [f64]) {
+        Hs071.initial_point(x)
+    }
+    fn objective(&self, x: &[f64]) -> Result<f64, EvalError> {
+        if self.kind == 1 {
+            return Ok(f64::NAN);
+        }
+        Hs071.objective(x)
+    }
+    fn gradient(&self, x: &[f64], g: &mut [f64]) -> Result<(), EvalError> {
+        Hs071.gradient(x, g)
+    }
+    fn constraints(&self, x: &[f64], c: &mut [f64]) -> Result<(), EvalError> {
+        Hs071.constraints(x, c)?;
+        if self.kind == 4 {
+            c[1] = f64::INFINITY;
+        }
+        Ok(())
+    }
+    fn jacobian_structure(&self) -> Sparsity {
+        let mut s = Hs071.jacobian_structure();
+        if self.kind == 2 {
+            s.rows[3] = 7;
+        }
+        if self.kind == 3 {
+            s.cols[1] = 0;
+        }
+        s
+    }
+    fn jacobian_values(&self, x: &[f64], v: &mut [f64]) -> Result<(), EvalError> {
+        Hs071.jacobian_values(x, v)
+    }
+    fn hessian_structure(&self) -> Sparsity {
+        let mut s = Hs071.hessian_structure();
+        if self.kind == 5 {
+            s.rows[1] = 0;
+            s.cols[1] = 1;
+        }
+        s
+    }
+    fn hessian_values(
+        &self,
+        x: &[f64],
+        of: f64,
+        l: &[f64],
+        v: &mut [f64],
+    ) -> Result<(), EvalError> {
+        Hs071.hessian_values(x, of, l, v)
+    }
+}
+
+fn solve_err(kind: u8) -> SolveError {
+    InteriorPoint::new()
+        .solve(&Broken { kind }, &SolverOptions::default(), &mut |_| {
+            ControlFlow::Continue(())
+        })
+        .expect_err("expected an error")
+}
+
+#[test]
+fn bad_problems_give_clear_errors() {
+    let e = solve_err(0);
+    assert!(
+        matches!(
+            e,
+            SolveError::InvalidProblem(NlpError::InvertedBounds { index: 2, .. })
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("variable 2"), "{e}");
+    let e = solve_err(1);
+    assert!(
+        matches!(
+            e,
+            SolveError::InitialEvaluation(EvalError::NonFinite {
+                function: NlpFunction::Objective,
+                ..
+            })
+        ),
+        "{e}"
+    );
+    let e = solve_err(2);
+    assert!(
+        matches!(
+            e,
+            SolveError::InvalidProblem(NlpError::OutOfRange {
+                entry: 3,
+                row: 7,
+                ..
+            })
+        ),
+        "{e}"
+    );
+    let e = solve_err(3);
+    assert!(
+        matches!(
+            e,
+            SolveError::InvalidProblem(NlpError::Duplicate {
+                first: 0,
+                second: 1,
+                ..
+            })
+        ),
+        "{e}"
+    );
+    let e = solve_err(4);
+    assert!(
+        matches!(
+            e,
+            SolveError::InitialEvaluation(EvalError::NonFinite {
+                function: NlpFunction::Constraints,
+                index: 1,
+                ..
+            })
+        ),
+        "{e}"
+    );
+    let e = solve_err(5);
+    assert!(
+        matches!(
+            e,
+            SolveError::InvalidProblem(NlpError::UpperTriangle { entry: 1, .. })
+        ),
+        "{e}"
+    );
+}
+
+#[test]
+fn invalid_options_are_rejected() {
+    let o = SolverOptions {
+        tol: -1.0,
+        ..SolverOptions::default()
+    };
+    let e = InteriorPoint::new()
+        .solve(&Hs071, &o, &mut |_| ControlFlow::Continue(()))
+        .unwrap_err();
+    assert!(matches!(e, SolveError::InvalidOption { name: "tol", .. }));
+}
