@@ -10,6 +10,8 @@
 //! dual infeasibility recomputed from the unscaled problem ([`residuals`]) so that all
 //! backends are judged by the same yardstick.
 
+#[cfg(all(test, feature = "ipopt"))]
+mod agreement;
 #[cfg(feature = "ipopt")]
 pub mod ipopt;
 pub mod monitor;
