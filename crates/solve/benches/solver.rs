@@ -65,7 +65,7 @@ fn main() {
     }
     println!();
     println!(
-        "## Full solves (tol 1e-8 default; L-BFGS history 6, max 3000 iterations, 600 s limit)"
+        "## Full solves (tol 1e-8 default; L-BFGS history 6, max 3000 iterations, 120 s limit)"
     );
     println!("| intervals | n | Hessian | status | iterations | total s | ms/iter | eval % | linear % | factorisations | f* |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
@@ -77,7 +77,7 @@ fn main() {
         ] {
             let o = SolverOptions {
                 hessian,
-                time_limit: Some(Duration::from_secs(600)),
+                time_limit: Some(Duration::from_secs(120)),
                 ..SolverOptions::default()
             };
             let r = InteriorPoint::new()

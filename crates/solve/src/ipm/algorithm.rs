@@ -458,7 +458,7 @@ pub fn solve(
             } else {
                 infeasible_stall = 0;
             }
-            if infeasible_stall >= 3 || (stalled && ls_failures >= 3) {
+            if infeasible_stall >= 3 || (stalled && (ls_failures >= 3 || nu > 1e8)) {
                 status = SolveStatus::Infeasible;
                 break;
             }
@@ -688,7 +688,8 @@ pub fn solve(
             for j in 0..big_n {
                 wt[j] = st.w[j] + alpha * dw[j];
             }
-            let tiny = alpha * dnorm <= 10.0 * f64::EPSILON * wnorm;
+            // only a full step that is already at round-off level is accepted unconditionally
+            let tiny = alpha_max * dnorm <= 10.0 * f64::EPSILON * wnorm;
             let ev = prob
                 .objective(&wt[..n])
                 .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f));
@@ -714,7 +715,7 @@ pub fn solve(
                 adaptive = false;
                 mu = mu.max(st.average_complementarity());
             }
-            if ls_failures >= 8 {
+            if ls_failures >= 3 {
                 status = if inf_pr_u > options.constr_viol_tol {
                     SolveStatus::Infeasible
                 } else {
@@ -722,8 +723,7 @@ pub fn solve(
                 };
                 break;
             }
-            // take a small step anyway to get away from the stuck point
-            alpha = alpha_max.min(1e-3);
+            // keep the last (shortest) trial point and try again from there
             for j in 0..big_n {
                 wt[j] = st.w[j] + alpha * dw[j];
             }
