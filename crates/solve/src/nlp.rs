@@ -14,6 +14,8 @@
 //! The module also provides validation helpers ([`validate_bounds`], [`validate_sparsity`],
 //! [`check_finite`]) that turn malformed problems into clear errors, and a finite-difference
 //! derivative checker ([`check_derivatives`]) usable with any [`Nlp`].
+// Index loops over several parallel arrays are clearer than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
 
 use std::ops::Range;
 

@@ -4,6 +4,8 @@
 //! Problem seen by the iteration (all quantities scaled, see [`ScaledNlp`]):
 //! variables w = (x, s) with slacks s for the inequality rows, bounds L <= w <= U, and
 //! equality residuals r(w) = c(x) − (g for equality rows, s for inequality rows) = 0.
+// Index loops over several parallel arrays are clearer than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
 
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
@@ -878,13 +880,13 @@ fn check_options(o: &SolverOptions) -> Result<(), SolveError> {
             reason: reason.to_string(),
         })
     };
-    if !(o.tol > 0.0) {
+    if o.tol.is_nan() || o.tol <= 0.0 {
         return bad("tol", "must be positive");
     }
-    if !(o.mu_init > 0.0) {
+    if o.mu_init.is_nan() || o.mu_init <= 0.0 {
         return bad("mu_init", "must be positive");
     }
-    if !(o.bound_push > 0.0 && o.bound_push < 0.5) {
+    if o.bound_push.is_nan() || o.bound_push <= 0.0 || o.bound_push >= 0.5 {
         return bad("bound_push", "must be in (0, 0.5)");
     }
     if let HessianMode::LimitedMemory { history } = o.hessian {

@@ -48,7 +48,7 @@ impl Lbfgs {
         let sy = dot(s, y);
         let ss = dot(s, s);
         let yy = dot(y, y);
-        if !(sy > 1e-8 * (ss * yy).sqrt()) || !sy.is_finite() {
+        if !sy.is_finite() || sy <= 1e-8 * (ss * yy).sqrt() {
             return false;
         }
         if self.s.len() == self.capacity {

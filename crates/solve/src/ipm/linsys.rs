@@ -4,6 +4,8 @@
 //! fixed pattern: symbolic analysis (fill-reducing ordering, elimination tree, supernodes)
 //! happens once in [`KktSolver::analyse`], numeric factorisation every iteration in
 //! [`KktSolver::factor`], which also reports the inertia (signs of the pivots of LDLᵀ).
+// Index loops over several parallel arrays are clearer than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::{LdltParams, LdltRegularization};
