@@ -11,7 +11,7 @@ use stride_solve::ipm::linsys::{FaerLdlt, KktSolver};
 use stride_solve::ipm::InteriorPoint;
 use stride_solve::nlp::Nlp;
 use stride_solve::problems::PendulumChain;
-use stride_solve::solver::{HessianMode, Solver, SolverOptions};
+use stride_solve::solver::{HessianMode, MuStrategy, Solver, SolverOptions};
 
 const LINKS: usize = 10;
 
@@ -71,12 +71,22 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for &nint in &sizes {
         let p = PendulumChain::new(LINKS, nint);
-        for (label, hessian) in [
-            ("exact", HessianMode::Exact),
-            ("l-bfgs(6)", HessianMode::LimitedMemory { history: 6 }),
+        for (label, hessian, mu_strategy) in [
+            ("exact", HessianMode::Exact, MuStrategy::Monotone),
+            (
+                "exact, adaptive mu",
+                HessianMode::Exact,
+                MuStrategy::Adaptive,
+            ),
+            (
+                "l-bfgs(6)",
+                HessianMode::LimitedMemory { history: 6 },
+                MuStrategy::Monotone,
+            ),
         ] {
             let o = SolverOptions {
                 hessian,
+                mu_strategy,
                 time_limit: Some(Duration::from_secs(120)),
                 ..SolverOptions::default()
             };
