@@ -52,6 +52,10 @@ impl BitSets {
             data: vec![0; n * words],
         }
     }
+    /// Number of 64-bit words per set.
+    pub fn words(&self) -> usize {
+        self.words
+    }
     #[inline]
     pub fn row(&self, i: usize) -> &[u64] {
         &self.data[i * self.words..(i + 1) * self.words]

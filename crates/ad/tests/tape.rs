@@ -377,6 +377,34 @@ fn bad_input_gives_clear_errors() {
 }
 
 #[test]
+fn degenerate_tapes_work() {
+    let empty = Tape::record(&[], |_| vec![]).unwrap();
+    let mut ws = empty.workspace();
+    empty.eval(&[], &mut ws, &mut []).unwrap();
+    let constant = Tape::record(&[2.0], |x| vec![Var::cst(3.0), x[0] * 0.0 + 1.0]).unwrap();
+    let mut ws = constant.workspace();
+    let mut y = [0.0; 2];
+    let mut jac = vec![0.0; constant.jacobian_pattern().nnz()];
+    constant
+        .jacobian(&[5.0], &mut ws, &mut y, &mut jac)
+        .unwrap();
+    assert_eq!(y, [3.0, 1.0]);
+    assert!(jac.iter().all(|&j| j == 0.0));
+    let identity = Tape::record(&[1.0, 2.0], |x| vec![x[1], x[0]]).unwrap();
+    let mut ws = identity.workspace();
+    let mut jac = vec![0.0; 2];
+    let mut hes = vec![0.0; identity.hessian_pattern().nnz()];
+    identity
+        .jacobian(&[4.0, 5.0], &mut ws, &mut y, &mut jac)
+        .unwrap();
+    assert_eq!((y, jac.as_slice()), ([5.0, 4.0], &[1.0, 1.0][..]));
+    identity
+        .hessian(&[4.0, 5.0], &[1.0, 1.0], &mut ws, &mut y, &mut hes)
+        .unwrap();
+    assert!(hes.is_empty());
+}
+
+#[test]
 fn tape_is_send_and_sync_and_evaluates_in_threads() {
     fn assert_send_sync<T: Send + Sync>() {}
     assert_send_sync::<Tape>();

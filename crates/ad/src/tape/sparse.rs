@@ -108,7 +108,7 @@ impl SparsePlan {
         // R sets, reverse order; the sink (index n) has empty P and R.
         let mut r = BitSets::new(n + 1, n_in);
         let sink = n as u32;
-        let empty = vec![0u64; jset.row(0).len()];
+        let empty = vec![0u64; jset.words()];
         let prow = |k: usize| if k < n { jset.row(k) } else { &empty[..] };
         let curv: Vec<Curvature> = ops.iter().map(|o| o.curvature()).collect();
         for t in (0..ops.len()).rev() {
