@@ -68,7 +68,6 @@ fn ipopt_and_ripopt_agree_on_collocation() {
 }
 
 #[test]
-#[ignore = "not yet run: stride-ipm landed minutes before the deadline; run with --ignored"]
 fn ipopt_and_stride_ipm_agree_on_collocation() {
     use crate::ipm::InteriorPoint;
     let p = PendulumChain::new(3, 40);
