@@ -1,15 +1,31 @@
 //! `stride model ...`: inspect, fit and build musculoskeletal models.
 
+use anyhow::Context as _;
 use clap::Subcommand;
 use std::path::PathBuf;
+use stride_model::default_model::{build_default_model, default_model, default_model_json};
+use stride_model::storage::write_atomic;
 
 /// Model subcommands.
 #[derive(Subcommand)]
 pub enum ModelCommand {
-    /// Print coordinates, bodies and masses, muscles, contacts and unsupported elements of an `.osim` file.
+    /// Print coordinates, bodies and masses, joints, muscles, contacts, actuators, passive
+    /// torques, polynomial geometry and unsupported elements of an `.osim` file (or of the
+    /// built-in model when no file is given).
     Inspect {
-        /// The OpenSim model file.
-        file: PathBuf,
+        /// The OpenSim model file; omit for the built-in default model.
+        file: Option<PathBuf>,
+    },
+    /// Regenerate the built-in model (`crates/model/data/default_model.json`) from the
+    /// reference data: subject1_v2.osim + contacts + passive torques + metabolic
+    /// parameters + polynomial geometry + arm actuators.
+    BuildDefault {
+        /// The reference data folder (`shared/reference`).
+        #[arg(long)]
+        reference: PathBuf,
+        /// Output file.
+        #[arg(long, default_value = "crates/model/data/default_model.json")]
+        out: PathBuf,
     },
     /// Fit polynomial muscle-tendon geometry to the path points of an `.osim` file and print the accuracy table.
     Fit(crate::fit_cmd::FitArgs),
@@ -19,7 +35,29 @@ pub enum ModelCommand {
 pub fn run(cmd: ModelCommand) -> anyhow::Result<()> {
     match cmd {
         ModelCommand::Inspect { file } => {
-            anyhow::bail!("model inspect {}: importer not built yet", file.display())
+            let model = match &file {
+                Some(f) => stride_model::osim::load_osim(f)?,
+                None => default_model(),
+            };
+            print!("{}", stride_model::inspect::render(&model));
+            Ok(())
+        }
+        ModelCommand::BuildDefault { reference, out } => {
+            let model = build_default_model(&reference)?;
+            let text = default_model_json(&model)?;
+            write_atomic(&out, text.as_bytes())
+                .with_context(|| format!("writing {}", out.display()))?;
+            println!(
+                "wrote {} ({} bytes): {} coordinates, {} muscles, {} contacts, {} passive torques, {} actuators",
+                out.display(),
+                text.len(),
+                model.coordinates.len(),
+                model.muscles.len(),
+                model.contacts.len(),
+                model.passive_torques.len(),
+                model.actuators.len()
+            );
+            Ok(())
         }
         ModelCommand::Fit(args) => crate::fit_cmd::run(args),
     }
