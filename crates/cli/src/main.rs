@@ -3,6 +3,7 @@
 mod data_cmd;
 mod fit_cmd;
 mod model_cmd;
+mod predict_cmd;
 
 use clap::{Parser, Subcommand};
 
@@ -26,6 +27,8 @@ enum Command {
     /// Inspect, fit and build musculoskeletal models.
     #[command(subcommand)]
     Model(model_cmd::ModelCommand),
+    /// Predict a gait (the paper's nominal case with no arguments).
+    Predict(predict_cmd::PredictArgs),
     /// Manage the experimental data shipped with stride.
     #[command(subcommand)]
     Data(data_cmd::DataCommand),
@@ -40,6 +43,7 @@ fn main() {
         }
         Command::Model(cmd) => model_cmd::run(cmd),
         Command::Data(cmd) => data_cmd::run(cmd),
+        Command::Predict(args) => predict_cmd::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -12,6 +12,7 @@ pub mod gait;
 pub mod guess;
 pub mod layout;
 pub mod node;
+pub mod predict;
 pub mod problem;
 pub mod radau;
 pub mod settings;

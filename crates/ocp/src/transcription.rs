@@ -41,6 +41,33 @@ pub trait NodeFunction: Sync {
     fn hessian(&self, x: &[f64], w: &[f64], hess: &mut [f64]);
 }
 
+impl<N: NodeFunction + Send> NodeFunction for std::sync::Arc<N> {
+    fn n_inputs(&self) -> usize {
+        (**self).n_inputs()
+    }
+    fn n_outputs(&self) -> usize {
+        (**self).n_outputs()
+    }
+    fn constraint_bounds(&self) -> Vec<(f64, f64)> {
+        (**self).constraint_bounds()
+    }
+    fn jacobian_pattern(&self) -> Vec<(usize, usize)> {
+        (**self).jacobian_pattern()
+    }
+    fn hessian_pattern(&self) -> Vec<(usize, usize)> {
+        (**self).hessian_pattern()
+    }
+    fn eval(&self, x: &[f64], y: &mut [f64]) {
+        (**self).eval(x, y)
+    }
+    fn jacobian(&self, x: &[f64], y: &mut [f64], jac: &mut [f64]) {
+        (**self).jacobian(x, y, jac)
+    }
+    fn hessian(&self, x: &[f64], w: &[f64], hess: &mut [f64]) {
+        (**self).hessian(x, w, hess)
+    }
+}
+
 /// Node input block offsets for a layout.
 #[derive(Clone, Copy, Debug)]
 pub struct NodeInputs {
@@ -247,7 +274,7 @@ impl<F: NodeFunction> Transcription<F> {
                 let row = base + st;
                 let mut terms = Vec::new();
                 let arm_i = st.checked_sub(2 * l.nm + 2 * l.nq);
-                for r in 0..4 {
+                for (r, cr) in c.iter().enumerate() {
                     let p = if r == 0 {
                         Point::Mesh(k)
                     } else {
@@ -255,7 +282,7 @@ impl<F: NodeFunction> Transcription<F> {
                     };
                     terms.push(Term {
                         var: l.state(p, st),
-                        coef: -c[r][j - 1],
+                        coef: -cr[j - 1],
                         times_h: false,
                     });
                 }

@@ -1,0 +1,229 @@
+//! `stride predict`: predict a gait from the built-in model (or an `.osim`) and a speed.
+
+use anyhow::{bail, Context};
+use clap::Args;
+use serde::Deserialize;
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::time::Duration;
+use stride_ocp::guess::GuessKind;
+use stride_ocp::predict;
+use stride_ocp::settings::ProblemSettings;
+use stride_solve::solver::{HessianMode, MuStrategy, Solver, SolverOptions};
+
+/// Arguments of `stride predict` (flags override the study file).
+#[derive(Args)]
+pub struct PredictArgs {
+    /// Study file (TOML) with `[problem]`, `[solver]`, `guesses`, `output`, `model`.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// OpenSim model (default: the built-in subject model).
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Imposed average speed [m/s].
+    #[arg(long)]
+    pub speed: Option<f64>,
+    /// Mesh intervals.
+    #[arg(long)]
+    pub mesh: Option<usize>,
+    /// Initial guesses, comma separated: quasi-random, data-informed-walking, data-informed-running.
+    #[arg(long, value_delimiter = ',')]
+    pub guess: Option<Vec<String>>,
+    /// Solver backend: ipm (pure Rust, default) or ipopt (needs the `ipopt` feature).
+    #[arg(long)]
+    pub solver: Option<String>,
+    /// Hessian: exact or limited-memory.
+    #[arg(long)]
+    pub hessian: Option<String>,
+    /// Convergence tolerance.
+    #[arg(long)]
+    pub tol: Option<f64>,
+    /// Iteration limit.
+    #[arg(long)]
+    pub max_iter: Option<usize>,
+    /// Wall-time limit per solve [s].
+    #[arg(long)]
+    pub time_limit: Option<f64>,
+    /// Output folder.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Solver section of a study file.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct SolverSection {
+    backend: Option<String>,
+    hessian: Option<String>,
+    tol: Option<f64>,
+    max_iter: Option<usize>,
+    time_limit: Option<f64>,
+}
+
+/// A study file for one prediction.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct StudyFile {
+    model: Option<PathBuf>,
+    output: Option<PathBuf>,
+    guesses: Option<Vec<String>>,
+    #[serde(default)]
+    problem: Option<ProblemSettings>,
+    #[serde(default)]
+    solver: SolverSection,
+}
+
+fn parse_guess(s: &str) -> anyhow::Result<GuessKind> {
+    Ok(match s.trim() {
+        "quasi-random" | "qr" => GuessKind::QuasiRandom,
+        "data-informed-walking" | "di-walking" => GuessKind::DataInformedWalking,
+        "data-informed-running" | "di-running" => GuessKind::DataInformedRunning,
+        other => bail!(
+            "unknown initial guess `{other}` (quasi-random, data-informed-walking, data-informed-running)"
+        ),
+    })
+}
+
+fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
+    match name {
+        "ipm" => Ok(Box::new(stride_solve::ipm::InteriorPoint::new())),
+        #[cfg(feature = "ipopt")]
+        "ipopt" => Ok(Box::new(
+            stride_solve::backends::ipopt::IpoptSolver::default(),
+        )),
+        #[cfg(not(feature = "ipopt"))]
+        "ipopt" => {
+            bail!("solver `ipopt` needs a build with `--features ipopt` (and coinor-libipopt-dev)")
+        }
+        other => bail!("unknown solver `{other}` (ipm, ipopt)"),
+    }
+}
+
+/// Run `stride predict`.
+pub fn run(args: PredictArgs) -> anyhow::Result<()> {
+    let study: StudyFile = match &args.config {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("reading study file {}", p.display()))?;
+            toml::from_str(&text).with_context(|| format!("study file {}", p.display()))?
+        }
+        None => StudyFile::default(),
+    };
+    let mut settings = study.problem.unwrap_or_default();
+    if let Some(v) = args.speed {
+        settings.speed = v;
+    }
+    if let Some(n) = args.mesh {
+        settings.mesh_intervals = n;
+    }
+    settings.validate()?;
+    let guesses: Vec<GuessKind> = match args.guess.or(study.guesses) {
+        Some(list) => list
+            .iter()
+            .map(|s| parse_guess(s))
+            .collect::<Result<_, _>>()?,
+        None => vec![GuessKind::QuasiRandom, GuessKind::DataInformedWalking],
+    };
+    if guesses.is_empty() {
+        bail!("no initial guess given");
+    }
+    let s = &study.solver;
+    let backend_name = args
+        .solver
+        .or(s.backend.clone())
+        .unwrap_or_else(|| "ipm".into());
+    let solver = backend(&backend_name)?;
+    let hessian = match args.hessian.or(s.hessian.clone()).as_deref() {
+        None | Some("exact") => HessianMode::Exact,
+        Some("limited-memory") => HessianMode::LimitedMemory { history: 6 },
+        Some(other) => bail!("unknown hessian `{other}` (exact, limited-memory)"),
+    };
+    let tol = args.tol.or(s.tol).unwrap_or(1e-4);
+    if tol.is_nan() || tol <= 0.0 {
+        bail!("invalid tol {tol}: must be positive");
+    }
+    let options = SolverOptions {
+        tol,
+        max_iter: args.max_iter.or(s.max_iter).unwrap_or(3000),
+        hessian,
+        mu_strategy: MuStrategy::Adaptive,
+        time_limit: args
+            .time_limit
+            .or(s.time_limit)
+            .map(Duration::from_secs_f64),
+        ..Default::default()
+    };
+    let model = match args.model.or(study.model) {
+        Some(p) => stride_model::osim::load_osim(&p)
+            .with_context(|| format!("loading model {}", p.display()))?,
+        None => stride_model::default_model::default_model(),
+    };
+    let out = args
+        .out
+        .or(study.output)
+        .unwrap_or_else(|| PathBuf::from(format!("out/predict_{:.2}", settings.speed)));
+    let quiet = args.quiet;
+    let last = Mutex::new(std::time::Instant::now());
+    let progress = |g: GuessKind, r: &stride_solve::solver::IterationRecord| {
+        if quiet {
+            return;
+        }
+        let mut t = last.lock().unwrap_or_else(|e| e.into_inner());
+        if t.elapsed() > Duration::from_millis(500) {
+            *t = std::time::Instant::now();
+            eprint!(
+                "\r{g:<22} iter {:>5}  objective {:>12.5e}  inf_pr {:>8.2e}  inf_du {:>8.2e}  {:>7.1} s   ",
+                r.iter,
+                r.objective,
+                r.inf_pr,
+                r.inf_du,
+                r.elapsed.as_secs_f64()
+            );
+            let _ = std::io::stderr().flush();
+        }
+    };
+    let (problem, solved) = predict::solve_guesses(
+        &model,
+        &settings,
+        &guesses,
+        solver.as_ref(),
+        &options,
+        &progress,
+    )?;
+    if !quiet {
+        eprintln!();
+    }
+    let kept = predict::select(&solved);
+    let summary = predict::write_results(&problem, &solved, kept, solver.name(), &out)?;
+    for g in &summary.guesses {
+        println!(
+            "{:<22} {:<14} iterations {:>5}  objective {:>12.6}  violation {:.1e}  time {:.1} s (evaluations {:.1} s)",
+            g.guess.to_string(),
+            g.status,
+            g.iterations,
+            g.objective,
+            g.constraint_violation,
+            g.time_total_s,
+            g.time_evaluations_s
+        );
+    }
+    match (&summary.kept_guess, &summary.outcomes) {
+        (Some(k), Some(o)) => println!(
+            "kept {k}: cost of transport {:.3} J/kg/m, stride length {:.3} m, step width {:.3} m, stride frequency {:.3} /s\nresults in {}",
+            o.cost_of_transport,
+            o.stride_length,
+            o.step_width,
+            o.stride_frequency,
+            out.display()
+        ),
+        _ => {
+            println!("no guess converged; solver logs and summary in {}", out.display());
+            std::process::exit(2);
+        }
+    }
+    Ok(())
+}

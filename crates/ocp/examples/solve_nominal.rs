@@ -1,0 +1,75 @@
+//! Development driver: solve the nominal problem with a given mesh and guess.
+//! `cargo run --release -p stride-ocp --example solve_nominal -- <N> <qr|di> [exact|lbfgs]`
+
+use std::ops::ControlFlow;
+use stride_ocp::{
+    data, experimental::Kinematics, guess::GuessKind, node::NodeModel, problem::GaitProblem,
+    settings::ProblemSettings, tape_node::TapeNode, transcription::NodeInputs,
+    transcription::Transcription,
+};
+use stride_solve::solver::{HessianMode, Solver, SolverOptions};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(50);
+    let guess = match args.get(2).map(|s| s.as_str()) {
+        Some("qr") => GuessKind::QuasiRandom,
+        _ => GuessKind::DataInformedWalking,
+    };
+    let lbfgs = args.get(3).map(|s| s == "lbfgs").unwrap_or(false);
+    let model = stride_model::default_model::default_model();
+    let settings = ProblemSettings {
+        mesh_intervals: n,
+        ..Default::default()
+    };
+    let walking = data::walking_half_cycle();
+    let problem = GaitProblem::new(&model, &settings, &walking).unwrap();
+    let kin = Kinematics::from_storage(&walking, &problem.gait, "walking").unwrap();
+    let x0 = problem.initial_guess(guess, Some(&kin)).unwrap();
+    let node = NodeModel::new(&problem).unwrap();
+    let io = NodeInputs {
+        nm: problem.layout.nm,
+        nq: problem.layout.nq,
+        na: problem.layout.na,
+    };
+    let xin: Vec<f64> = io
+        .global_indices(&problem.layout, 0, 1)
+        .iter()
+        .map(|&g| x0[g])
+        .collect();
+    let t0 = std::time::Instant::now();
+    let tape = TapeNode::record(&node, &xin).unwrap();
+    println!("tape: {:?} in {:?}", tape.tape().stats(), t0.elapsed());
+    let tr = Transcription::new(problem, tape, x0);
+    let options = SolverOptions {
+        tol: 1e-4,
+        max_iter: 3000,
+        hessian: if lbfgs {
+            HessianMode::LimitedMemory { history: 6 }
+        } else {
+            HessianMode::Exact
+        },
+        print_level: 2,
+        mu_strategy: stride_solve::solver::MuStrategy::Adaptive,
+        ..Default::default()
+    };
+    let backend = args.get(4).cloned().unwrap_or_else(|| "ipm".into());
+    let solver: Box<dyn Solver> = match backend.as_str() {
+        #[cfg(feature = "ipopt")]
+        "ipopt" => Box::new(stride_solve::backends::ipopt::IpoptSolver::default()),
+        _ => Box::new(stride_solve::ipm::InteriorPoint::new()),
+    };
+    let r = solver
+        .solve(&tr, &options, &mut |_rec| ControlFlow::Continue(()))
+        .unwrap();
+    println!(
+        "status {:?} iters {} obj {} viol {:e} time {:?} (eval {:?}, linear {:?})",
+        r.status,
+        r.iterations,
+        r.objective,
+        r.constraint_violation,
+        r.time_total,
+        r.time_evaluations,
+        r.time_linear_solver
+    );
+}

@@ -1,0 +1,425 @@
+//! `predict`: build, solve from several initial guesses, keep the lowest-cost converged
+//! solution, post-process and write the results atomically to an output folder.
+
+use crate::data;
+use crate::experimental::Kinematics;
+use crate::guess::GuessKind;
+use crate::node::NodeModel;
+use crate::problem::{GaitProblem, ProblemError, GRAVITY};
+use crate::settings::{CycleKind, ProblemSettings};
+use crate::tape_node::TapeNode;
+use crate::trajectory::{Outcomes, Trajectory};
+use crate::transcription::{NodeInputs, Transcription};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use stride_model::storage::{write_atomic, Storage};
+use stride_model::{Model, MotionType};
+use stride_solve::solver::{ControlFlow, IterationRecord, SolveResult, Solver, SolverOptions};
+
+/// Why a prediction failed.
+#[derive(Debug, thiserror::Error)]
+pub enum PredictError {
+    /// The problem could not be built.
+    #[error(transparent)]
+    Problem(#[from] ProblemError),
+    /// A guess could not be built.
+    #[error(transparent)]
+    Guess(#[from] crate::guess::GuessError),
+    /// The solver refused the problem.
+    #[error("solver: {0}")]
+    Solver(String),
+    /// Writing results failed.
+    #[error("writing {path}: {reason}")]
+    Write {
+        /// Path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+}
+
+/// Outcome of one solve from one initial guess.
+#[derive(Clone, Debug, Serialize)]
+pub struct GuessReport {
+    /// The initial guess.
+    pub guess: GuessKind,
+    /// Solver status.
+    pub status: String,
+    /// Whether it converged.
+    pub converged: bool,
+    /// Iterations.
+    pub iterations: usize,
+    /// Final objective.
+    pub objective: f64,
+    /// Final constraint violation.
+    pub constraint_violation: f64,
+    /// Wall time [s].
+    pub time_total_s: f64,
+    /// Time in function evaluations [s].
+    pub time_evaluations_s: f64,
+    /// Time in the solver itself [s].
+    pub time_solver_s: f64,
+}
+
+/// The summary written to `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// Which guess was kept.
+    pub kept_guess: Option<GuessKind>,
+    /// Every guess's solve.
+    pub guesses: Vec<GuessReport>,
+    /// Solver backend.
+    pub solver: String,
+    /// Outcome measures of the kept solution.
+    pub outcomes: Option<Outcomes>,
+    /// The settings solved.
+    pub settings: ProblemSettings,
+    /// Number of NLP variables and constraints.
+    pub nlp_size: [usize; 2],
+}
+
+/// One solved guess with its solution.
+pub struct Solved {
+    /// Report.
+    pub report: GuessReport,
+    /// Solver result (solution vector and log).
+    pub result: SolveResult,
+}
+
+/// Experimental kinematics that define the bounds of a problem (walking half or full cycle).
+pub fn bounds_data(settings: &ProblemSettings) -> Storage {
+    match settings.cycle {
+        CycleKind::HalfSymmetric => data::walking_half_cycle(),
+        CycleKind::FullPeriodic => data::walking_full_cycle(),
+    }
+}
+
+/// Solve `model` with `settings` from each guess with `solver`; `progress` receives every
+/// iteration of every guess.
+pub fn solve_guesses(
+    model: &Model,
+    settings: &ProblemSettings,
+    guesses: &[GuessKind],
+    solver: &(dyn Solver + Sync),
+    options: &SolverOptions,
+    progress: &(dyn Fn(GuessKind, &IterationRecord) + Sync),
+) -> Result<(GaitProblem, Vec<Solved>), PredictError> {
+    let problem = GaitProblem::new(model, settings, &bounds_data(settings))?;
+    let node = NodeModel::new(&problem)?;
+    let io = NodeInputs {
+        nm: problem.layout.nm,
+        nq: problem.layout.nq,
+        na: problem.layout.na,
+    };
+    let mut x0s = Vec::new();
+    for &g in guesses {
+        let storage = match g {
+            GuessKind::DataInformedRunning => Some(data::running_half_cycle()),
+            GuessKind::DataInformedWalking => Some(bounds_data(settings)),
+            GuessKind::QuasiRandom => None,
+        };
+        let kin = storage
+            .map(|s| Kinematics::from_storage(&s, &problem.gait, "guess kinematics"))
+            .transpose()
+            .map_err(ProblemError::from)?;
+        x0s.push(problem.initial_guess(g, kin.as_ref())?);
+    }
+    let first = x0s
+        .first()
+        .ok_or_else(|| PredictError::Solver("no initial guess".into()))?;
+    let xin: Vec<f64> = io
+        .global_indices(&problem.layout, 0, 1)
+        .iter()
+        .map(|&g| first[g])
+        .collect();
+    let tape = Arc::new(TapeNode::record(&node, &xin)?);
+    let results: Vec<Result<Solved, PredictError>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = guesses
+            .iter()
+            .zip(x0s)
+            .map(|(&g, x0)| {
+                let tr = Transcription::new(problem.clone(), tape.clone(), x0);
+                scope.spawn(move || {
+                    let r = solver
+                        .solve(&tr, options, &mut |rec| {
+                            progress(g, rec);
+                            ControlFlow::Continue(())
+                        })
+                        .map_err(|e| PredictError::Solver(e.to_string()))?;
+                    Ok(Solved {
+                        report: GuessReport {
+                            guess: g,
+                            status: format!("{:?}", r.status),
+                            converged: r.status.is_success(),
+                            iterations: r.iterations,
+                            objective: r.objective,
+                            constraint_violation: r.constraint_violation,
+                            time_total_s: r.time_total.as_secs_f64(),
+                            time_evaluations_s: r.time_evaluations.as_secs_f64(),
+                            time_solver_s: (r.time_total.saturating_sub(r.time_evaluations))
+                                .as_secs_f64(),
+                        },
+                        result: r,
+                    })
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err(PredictError::Solver("solver thread panicked".into())))
+            })
+            .collect()
+    });
+    let solved = results.into_iter().collect::<Result<Vec<_>, _>>()?;
+    Ok((problem, solved))
+}
+
+/// Index of the lowest-cost converged solve.
+pub fn select(solved: &[Solved]) -> Option<usize> {
+    solved
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.report.converged)
+        .min_by(|a, b| a.1.report.objective.total_cmp(&b.1.report.objective))
+        .map(|(i, _)| i)
+}
+
+fn write_err(path: &Path, e: impl ToString) -> PredictError {
+    PredictError::Write {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    }
+}
+
+/// Write every result file of a solved problem into `out` atomically: files go to a
+/// sibling temporary folder that replaces `out` only when complete.
+pub fn write_results(
+    problem: &GaitProblem,
+    solved: &[Solved],
+    kept: Option<usize>,
+    solver_name: &str,
+    out: &Path,
+) -> Result<Summary, PredictError> {
+    let node = NodeModel::new(problem)?;
+    let parent = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(parent).map_err(|e| write_err(parent, e))?;
+    let tmp: PathBuf = parent.join(format!(
+        ".{}.partial-{}",
+        out.file_name().and_then(|s| s.to_str()).unwrap_or("out"),
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&tmp);
+    std::fs::create_dir_all(&tmp).map_err(|e| write_err(&tmp, e))?;
+    let result = (|| {
+        let mut outcomes = None;
+        // Solver logs of every guess.
+        for s in solved {
+            let mut log =
+                String::from("iter,objective,inf_pr,inf_du,mu,alpha_pr,alpha_du,elapsed_s\n");
+            for r in &s.result.log {
+                let _ = writeln!(
+                    log,
+                    "{},{},{},{},{},{},{},{}",
+                    r.iter,
+                    r.objective,
+                    r.inf_pr,
+                    r.inf_du,
+                    r.mu,
+                    r.alpha_pr,
+                    r.alpha_du,
+                    r.elapsed.as_secs_f64()
+                );
+            }
+            let p = tmp.join(format!("solver_log_{}.csv", s.report.guess));
+            write_atomic(&p, log.as_bytes()).map_err(|e| write_err(&p, e))?;
+        }
+        if let Some(k) = kept {
+            let mesh = problem.mesh_solution(&node, &solved[k].result.x)?;
+            let cycle = problem.gait_cycle(&mesh);
+            outcomes = Some(problem.outcomes(&node, &mesh, &cycle)?);
+            write_cycle(problem, &node, &cycle, &tmp)?;
+        }
+        let summary = Summary {
+            kept_guess: kept.map(|k| solved[k].report.guess),
+            guesses: solved.iter().map(|s| s.report.clone()).collect(),
+            solver: solver_name.into(),
+            outcomes,
+            settings: problem.settings.clone(),
+            nlp_size: [problem.layout.len(), 0],
+        };
+        let p = tmp.join("summary.json");
+        let json = serde_json::to_string_pretty(&summary).map_err(|e| write_err(&p, e))?;
+        write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
+        Ok(summary)
+    })();
+    match result {
+        Ok(summary) => {
+            if out.exists() {
+                std::fs::remove_dir_all(out).map_err(|e| write_err(out, e))?;
+            }
+            std::fs::rename(&tmp, out).map_err(|e| write_err(out, e))?;
+            Ok(summary)
+        }
+        Err(e) => {
+            let _ = std::fs::remove_dir_all(&tmp);
+            Err(e)
+        }
+    }
+}
+
+fn csv(labels: &[String], time: &[f64], rows: &[Vec<f64>]) -> String {
+    let mut s = String::from("time");
+    for l in labels {
+        s.push(',');
+        s.push_str(l);
+    }
+    s.push('\n');
+    for (t, r) in time.iter().zip(rows) {
+        let _ = write!(s, "{t}");
+        for v in r {
+            let _ = write!(s, ",{v}");
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Write the motion, ground reaction forces and tables of a reconstructed cycle.
+fn write_cycle(
+    problem: &GaitProblem,
+    node: &NodeModel,
+    cycle: &Trajectory,
+    dir: &Path,
+) -> Result<(), PredictError> {
+    let model = &problem.model;
+    let g = &problem.gait;
+    let to_user = |i: usize, v: f64| {
+        if g.coordinates[i].motion_type == MotionType::Rotational {
+            v.to_degrees()
+        } else {
+            v
+        }
+    };
+    // Motion: every model coordinate (locked ones at their value) and activations.
+    let mut labels = vec!["time".to_string()];
+    labels.extend(model.coordinates.iter().map(|c| c.name.clone()));
+    labels.extend(
+        g.muscles
+            .iter()
+            .map(|&m| format!("{}/activation", model.muscles[m].name)),
+    );
+    let rows: Vec<Vec<f64>> = (0..cycle.time.len())
+        .map(|s| {
+            let mut row = vec![cycle.time[s]];
+            for (c, coord) in model.coordinates.iter().enumerate() {
+                let v = match g.coordinates.iter().position(|gc| gc.model_index == c) {
+                    Some(i) => to_user(i, cycle.q[s][i]),
+                    None if coord.motion_type == MotionType::Rotational => {
+                        coord.default_value.to_degrees()
+                    }
+                    None => coord.default_value,
+                };
+                row.push(v);
+            }
+            row.extend(&cycle.activation[s]);
+            row
+        })
+        .collect();
+    let motion = Storage {
+        name: "motion".into(),
+        in_degrees: Some(true),
+        labels,
+        rows,
+    };
+    let p = dir.join("motion.mot");
+    motion.write(&p).map_err(|e| write_err(&p, e))?;
+    // Ground reaction forces with centre of pressure and free moment per foot.
+    let mut labels = vec!["time".to_string()];
+    for side in ["r", "l"] {
+        for k in ["vx", "vy", "vz", "px", "py", "pz"] {
+            labels.push(format!("{side}_ground_force_{k}"));
+        }
+    }
+    for side in ["r", "l"] {
+        for k in ["x", "y", "z"] {
+            labels.push(format!("{side}_ground_torque_{k}"));
+        }
+    }
+    let rows: Vec<Vec<f64>> = (0..cycle.time.len())
+        .map(|s| {
+            let mut row = vec![cycle.time[s]];
+            let mut torques = Vec::new();
+            for (f, m) in [
+                (cycle.grf_right[s], cycle.grm_right[s]),
+                (cycle.grf_left[s], cycle.grm_left[s]),
+            ] {
+                let (cop, free) =
+                    stride_multibody::center_of_pressure(f, m, [0.0; 3], [0.0, 1.0, 0.0], 1e-3)
+                        .unwrap_or(([0.0; 3], 0.0));
+                row.extend(f);
+                row.extend(cop);
+                torques.extend([0.0, free, 0.0]);
+            }
+            row.extend(torques);
+            row
+        })
+        .collect();
+    let grf = Storage {
+        name: "ground_reaction_forces".into(),
+        in_degrees: Some(true),
+        labels,
+        rows,
+    };
+    let p = dir.join("grf.mot");
+    grf.write(&p).map_err(|e| write_err(&p, e))?;
+    // Tables.
+    let names: Vec<String> = g.coordinates.iter().map(|c| c.name.clone()).collect();
+    let muscles: Vec<String> = g
+        .muscles
+        .iter()
+        .map(|&m| model.muscles[m].name.clone())
+        .collect();
+    let angles: Vec<Vec<f64>> = cycle
+        .q
+        .iter()
+        .map(|q| q.iter().enumerate().map(|(i, &v)| to_user(i, v)).collect())
+        .collect();
+    let powers: Vec<Vec<f64>> = cycle
+        .torque
+        .iter()
+        .zip(&cycle.v)
+        .map(|(t, v)| t.iter().zip(v).map(|(a, b)| a * b).collect())
+        .collect();
+    let bw = problem.body_mass * GRAVITY;
+    let grf_bw: Vec<Vec<f64>> = cycle
+        .grf_right
+        .iter()
+        .zip(&cycle.grf_left)
+        .map(|(r, l)| r.iter().chain(l).map(|f| 100.0 * f / bw).collect())
+        .collect();
+    let grf_labels: Vec<String> = ["right", "left"]
+        .iter()
+        .flat_map(|s| ["x", "y", "z"].map(|k| format!("{s}_{k}_pct_bw")))
+        .collect();
+    let _ = node;
+    for (file, labels, rows) in [
+        ("joint_angles.csv", &names, &angles),
+        ("joint_torques.csv", &names, &cycle.torque),
+        ("joint_powers.csv", &names, &powers),
+        ("activations.csv", &muscles, &cycle.activation),
+        ("excitations.csv", &muscles, &problem.excitations(cycle)),
+        ("grf.csv", &grf_labels, &grf_bw),
+    ] {
+        let p = dir.join(file);
+        write_atomic(&p, csv(labels, &cycle.time, rows).as_bytes())
+            .map_err(|e| write_err(&p, e))?;
+    }
+    Ok(())
+}
