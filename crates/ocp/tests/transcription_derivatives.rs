@@ -42,11 +42,35 @@ fn transcription_derivatives_match_finite_differences() {
     let lambda: Vec<f64> = (0..tr.m())
         .map(|i| ((i as f64 * 0.5698402910).fract() - 0.5) * 2.0)
         .collect();
+    // First derivatives: relative 1e-6.
+    let first = check_derivatives(
+        &tr,
+        &x,
+        &DerivativeCheckOptions {
+            max_columns: 400,
+            tol: 1e-6,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    println!(
+        "gradient and Jacobian: {} columns, max scaled error {:.2e}",
+        first.columns_checked, first.max_error
+    );
+    assert!(
+        first.mismatches.is_empty(),
+        "{:?}",
+        &first.mismatches[..first.mismatches.len().min(5)]
+    );
+    // Hessian: finite differences of the Lagrangian gradient carry truncation errors of
+    // order h²·f''' where the friction smoothing √(v²+10⁻⁵) makes third derivatives with
+    // respect to the (scaled) speeds very large; 1e-4 separates those from real errors
+    // (the tape's Hessians are checked against hyper-dual numbers to 1e-10 in stride-ad).
     let opts = DerivativeCheckOptions {
         max_columns: 400,
         lambda: Some(lambda),
         obj_factor: 0.7,
-        tol: 1e-5,
+        tol: 1e-4,
         ..Default::default()
     };
     let report = check_derivatives(&tr, &x, &opts).unwrap();
