@@ -22,7 +22,7 @@ pub struct PredictArgs {
     #[arg(long)]
     pub model: Option<PathBuf>,
     /// Imposed average speed [m/s].
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub speed: Option<f64>,
     /// Mesh intervals.
     #[arg(long)]
