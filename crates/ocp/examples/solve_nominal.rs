@@ -4,8 +4,7 @@
 use std::ops::ControlFlow;
 use stride_ocp::{
     data, experimental::Kinematics, guess::GuessKind, node::NodeModel, problem::GaitProblem,
-    settings::ProblemSettings, tape_node::TapeNode, transcription::NodeInputs,
-    transcription::Transcription,
+    settings::ProblemSettings, tape_node::TapeNode, transcription::Transcription,
 };
 use stride_solve::solver::{HessianMode, Solver, SolverOptions};
 
@@ -27,18 +26,8 @@ fn main() {
     let kin = Kinematics::from_storage(&walking, &problem.gait, "walking").unwrap();
     let x0 = problem.initial_guess(guess, Some(&kin)).unwrap();
     let node = NodeModel::new(&problem).unwrap();
-    let io = NodeInputs {
-        nm: problem.layout.nm,
-        nq: problem.layout.nq,
-        na: problem.layout.na,
-    };
-    let xin: Vec<f64> = io
-        .global_indices(&problem.layout, 0, 1)
-        .iter()
-        .map(|&g| x0[g])
-        .collect();
     let t0 = std::time::Instant::now();
-    let tape = TapeNode::record(&node, &xin).unwrap();
+    let tape = TapeNode::for_problem(&problem, &node, &x0).unwrap();
     println!("tape: {:?} in {:?}", tape.tape().stats(), t0.elapsed());
     let tr = Transcription::new(problem, tape, x0);
     let options = SolverOptions {

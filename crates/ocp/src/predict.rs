@@ -9,7 +9,7 @@ use crate::problem::{GaitProblem, ProblemError, GRAVITY};
 use crate::settings::{CycleKind, ProblemSettings};
 use crate::tape_node::TapeNode;
 use crate::trajectory::{Outcomes, Trajectory};
-use crate::transcription::{NodeInputs, Transcription};
+use crate::transcription::Transcription;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -108,11 +108,6 @@ pub fn solve_guesses(
 ) -> Result<(GaitProblem, Vec<Solved>), PredictError> {
     let problem = GaitProblem::new(model, settings, &bounds_data(settings))?;
     let node = NodeModel::new(&problem)?;
-    let io = NodeInputs {
-        nm: problem.layout.nm,
-        nq: problem.layout.nq,
-        na: problem.layout.na,
-    };
     let mut x0s = Vec::new();
     for &g in guesses {
         let storage = match g {
@@ -129,12 +124,7 @@ pub fn solve_guesses(
     let first = x0s
         .first()
         .ok_or_else(|| PredictError::Solver("no initial guess".into()))?;
-    let xin: Vec<f64> = io
-        .global_indices(&problem.layout, 0, 1)
-        .iter()
-        .map(|&g| first[g])
-        .collect();
-    let tape = Arc::new(TapeNode::record(&node, &xin)?);
+    let tape = Arc::new(TapeNode::for_problem(&problem, &node, first)?);
     let results: Vec<Result<Solved, PredictError>> = std::thread::scope(|scope| {
         let handles: Vec<_> = guesses
             .iter()

@@ -33,6 +33,23 @@ impl TapeNode {
         })
     }
 
+    /// Record the node function of `problem` at the inputs of its first collocation point
+    /// in the NLP vector `x`.
+    pub fn for_problem(
+        problem: &crate::problem::GaitProblem,
+        node: &NodeModel,
+        x: &[f64],
+    ) -> Result<Self, ProblemError> {
+        let l = &problem.layout;
+        let io = crate::transcription::NodeInputs {
+            nm: l.nm,
+            nq: l.nq,
+            na: l.na,
+        };
+        let xin: Vec<f64> = io.global_indices(l, 0, 1).iter().map(|&g| x[g]).collect();
+        Self::record(node, &xin)
+    }
+
     /// The underlying tape.
     pub fn tape(&self) -> &Tape {
         &self.tape

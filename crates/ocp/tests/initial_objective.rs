@@ -9,7 +9,7 @@ use stride_ocp::node::NodeModel;
 use stride_ocp::problem::GaitProblem;
 use stride_ocp::settings::ProblemSettings;
 use stride_ocp::tape_node::TapeNode;
-use stride_ocp::transcription::{NodeInputs, Transcription};
+use stride_ocp::transcription::Transcription;
 use stride_solve::nlp::Nlp;
 
 #[test]
@@ -24,17 +24,7 @@ fn objective_at_the_data_informed_guess_matches_the_reference() {
         .initial_guess(GuessKind::DataInformedWalking, Some(&kin))
         .unwrap();
     let node = NodeModel::new(&problem).unwrap();
-    let io = NodeInputs {
-        nm: problem.layout.nm,
-        nq: problem.layout.nq,
-        na: problem.layout.na,
-    };
-    let xin: Vec<f64> = io
-        .global_indices(&problem.layout, 0, 1)
-        .iter()
-        .map(|&g| x0[g])
-        .collect();
-    let tape = TapeNode::record(&node, &xin).unwrap();
+    let tape = TapeNode::for_problem(&problem, &node, &x0).unwrap();
     let tr = Transcription::new(problem, tape, x0.clone());
     assert_eq!(tr.m(), 68_400 + 28_200);
     let j = tr.objective(&x0).unwrap();

@@ -4,8 +4,7 @@
 
 use stride_ocp::{
     data, experimental::Kinematics, guess::GuessKind, node::NodeModel, problem::GaitProblem,
-    settings::ProblemSettings, tape_node::TapeNode, transcription::NodeInputs,
-    transcription::Transcription,
+    settings::ProblemSettings, tape_node::TapeNode, transcription::Transcription,
 };
 use stride_solve::nlp::{check_derivatives, DerivativeCheckOptions, Nlp};
 
@@ -27,17 +26,7 @@ fn transcription_derivatives_match_finite_differences() {
         *xi += 1e-3 * ((i as f64 * 0.7548776662).fract() - 0.5);
     }
     let node = NodeModel::new(&problem).unwrap();
-    let io = NodeInputs {
-        nm: problem.layout.nm,
-        nq: problem.layout.nq,
-        na: problem.layout.na,
-    };
-    let xin: Vec<f64> = io
-        .global_indices(&problem.layout, 0, 1)
-        .iter()
-        .map(|&g| x[g])
-        .collect();
-    let tape = TapeNode::record(&node, &xin).unwrap();
+    let tape = TapeNode::for_problem(&problem, &node, &x).unwrap();
     let tr = Transcription::new(problem, tape, x.clone());
     let lambda: Vec<f64> = (0..tr.m())
         .map(|i| ((i as f64 * 0.5698402910).fract() - 0.5) * 2.0)
