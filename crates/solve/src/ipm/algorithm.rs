@@ -1,5 +1,7 @@
-//! The primal-dual barrier iteration (after Wächter & Biegler 2006, with an ℓ₁-merit
-//! line search in place of the filter; see docs/decisions/0002-solver.md).
+//! The primal-dual barrier iteration after Wächter & Biegler 2006: least-squares initial
+//! constraint multipliers, filter line search with second-order correction (no restoration
+//! phase), inertia correction, iterative refinement of the KKT solves, adaptive μ with a
+//! KKT-error progress check; see docs/decisions/0002-solver.md.
 //!
 //! Problem seen by the iteration (all quantities scaled, see [`ScaledNlp`]):
 //! variables w = (x, s) with slacks s for the inequality rows, bounds L <= w <= U, and
@@ -30,8 +32,32 @@ const KAPPA_MU: f64 = 0.2;
 const THETA_MU: f64 = 1.5;
 /// Safeguard factor κ_Σ for the bound multipliers.
 const KAPPA_SIGMA: f64 = 1e10;
-/// Armijo constant.
-const ETA: f64 = 1e-4;
+/// Armijo constant η_φ of the filter line search.
+const ETA_PHI: f64 = 1e-8;
+/// Filter margin on the constraint violation γ_θ.
+const GAMMA_THETA: f64 = 1e-5;
+/// Filter margin on the barrier function γ_φ.
+const GAMMA_PHI: f64 = 1e-8;
+/// Switching-condition constants δ, s_θ, s_φ.
+const SWITCH_DELTA: f64 = 1.0;
+const S_THETA: f64 = 1.1;
+const S_PHI: f64 = 2.3;
+/// Safety factor γ_α for the minimum step size.
+const GAMMA_ALPHA: f64 = 0.05;
+/// Second-order correction: at most this many corrections, each reducing θ by κ_soc.
+const MAX_SOC: usize = 4;
+const KAPPA_SOC: f64 = 0.99;
+/// Adaptive μ: reference KKT errors kept in free mode, and the reduction required.
+const FREE_MODE_REFS: usize = 4;
+const FREE_MODE_RED: f64 = 0.9999;
+/// Adaptive μ: fixed-mode μ as a fraction of the average complementarity.
+const FIXED_MU_FACTOR: f64 = 0.8;
+/// Iterative refinement: at most this many steps, down to this relative residual.
+const MAX_REFINE: usize = 10;
+const REFINE_TOL: f64 = 1e-10;
+/// Least-squares constraint multipliers larger than this are discarded (IPOPT
+/// `constr_mult_init_max`).
+const CONSTR_MULT_INIT_MAX: f64 = 1000.0;
 /// Constant regularisation of the constraint block (quasi-definiteness).
 const DELTA_C: f64 = 1e-9;
 
@@ -162,6 +188,64 @@ fn dual_fraction_to_boundary(st: &State, dzl: &[f64], dzu: &[f64], tau: f64) -> 
         }
     }
     a
+}
+
+/// ∇φ_μ(w)ᵀ dw for the barrier function φ_μ = f − μ Σ ln(slacks to bounds).
+fn barrier_directional_derivative(st: &State, mu: f64, dw: &[f64]) -> f64 {
+    let mut g = dot(&st.grad, &dw[..st.n]);
+    for j in 0..st.big_n {
+        if st.has_l[j] {
+            g -= mu / (st.w[j] - st.wl[j]) * dw[j];
+        }
+        if st.has_u[j] {
+            g += mu / (st.wu[j] - st.w[j]) * dw[j];
+        }
+    }
+    g
+}
+
+/// Primal-dual steps of the bound multipliers for the primal step `dw`.
+fn bound_multiplier_steps(st: &State, mu: f64, dw: &[f64], dzl: &mut [f64], dzu: &mut [f64]) {
+    for j in 0..st.big_n {
+        dzl[j] = if st.has_l[j] {
+            let sl = st.w[j] - st.wl[j];
+            mu / sl - st.zl[j] - st.zl[j] / sl * dw[j]
+        } else {
+            0.0
+        };
+        dzu[j] = if st.has_u[j] {
+            let su = st.wu[j] - st.w[j];
+            mu / su - st.zu[j] + st.zu[j] / su * dw[j]
+        } else {
+            0.0
+        };
+    }
+}
+
+/// res = b − K_true x for the KKT matrix K_reg (lower CSC values `vals`) whose constraint
+/// block carries the extra regularisation −diag(`d_c_reg`): K_true = K_reg + diag(0, d_c_reg).
+fn kkt_residual(
+    pattern: &KktPattern,
+    vals: &[f64],
+    d_c_reg: &[f64],
+    b: &[f64],
+    x: &[f64],
+    res: &mut [f64],
+) {
+    res.copy_from_slice(b);
+    for j in 0..pattern.dim {
+        for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+            let i = pattern.row_idx[p];
+            let v = vals[p];
+            res[i] -= v * x[j];
+            if i != j {
+                res[j] -= v * x[i];
+            }
+        }
+    }
+    for (k, d) in d_c_reg.iter().enumerate() {
+        res[pattern.n + k] -= d * x[pattern.n + k];
+    }
 }
 
 /// Runs the interior-point method on `nlp` with the given KKT linear solver.
@@ -325,17 +409,82 @@ pub fn solve(
     let mut prev_x = vec![0.0; n];
     let mut prev_grad_lag = vec![0.0; n];
     let mut tmp_n = vec![0.0; n];
+    let delta_c = DELTA_C;
+    let debug = options.print_level >= 3;
+    let mut b_save_buf = vec![0.0; dim];
+    let mut res_buf = vec![0.0; dim];
+    // regularisation δ_c on each constraint row (removed again by iterative refinement)
+    let d_c_reg_buf = vec![delta_c; m];
+    let mut factorizations = 0usize;
+
+    // ---- least-squares constraint multipliers (IPOPT's initialisation) -------------------
+    // [I Aᵀ; A 0] (d, λ) = (−(∇f − z_L + z_U), 0) over w = (x, s), slacks condensed.
+    {
+        let zero_h = vec![0.0; st.hv.len()];
+        diag_x.iter_mut().for_each(|v| *v = 1.0);
+        for i in 0..m {
+            d_c[i] = if st.slack_of_row[i] == NO_SLACK {
+                DELTA_C
+            } else {
+                1.0 + DELTA_C
+            };
+        }
+        pattern.assemble(&mut kvals, &zero_h, &st.jv, &diag_x, &d_c);
+        let t = Instant::now();
+        let inertia = linear
+            .factor(&kvals)
+            .map_err(|e| SolveError::Backend(e.to_string()))?;
+        factorizations += 1;
+        if inertia.positive == n && inertia.negative == m {
+            for j in 0..n {
+                rhs[j] = -(st.grad[j] - st.zl[j] + st.zu[j]);
+            }
+            for i in 0..m {
+                let k = st.slack_of_row[i];
+                rhs[n + i] = if k == NO_SLACK {
+                    0.0
+                } else {
+                    st.zl[n + k] - st.zu[n + k]
+                };
+            }
+            if linear.solve(&mut rhs).is_ok() {
+                let lam_ls = &rhs[n..];
+                if lam_ls.iter().all(|v| v.is_finite()) && inf_norm(lam_ls) <= CONSTR_MULT_INIT_MAX
+                {
+                    st.lam.copy_from_slice(lam_ls);
+                }
+            }
+        }
+        lin_time += t.elapsed();
+        if exact && st.lam.iter().any(|&v| v != 0.0) {
+            let (w, lam) = (st.w[..n].to_vec(), st.lam.clone());
+            prob.hessian(&w, 1.0, &lam, &mut st.hv).map_err(init)?;
+        }
+    }
 
     let mut mu = options.mu_init;
     let mut tau;
-    let mut nu = 1.0f64;
+    let jac_rows = prob.jac.rows.clone();
+    let jac_cols = prob.jac.cols.clone();
+    // filter line search state
+    let mut filter: Vec<(f64, f64)> = Vec::new();
+    let mut filter_mu = f64::NAN;
+    let mut theta_max = f64::INFINITY;
+    let mut theta_min = 0.0f64;
+    let mut soc_rhs_r = vec![0.0; m];
+    let mut dw_soc = vec![0.0; big_n];
+    let mut dlam_soc = vec![0.0; m];
     let mut delta_w_last = 0.0f64;
-    let mut factorizations = 0usize;
     let mut log: Vec<IterationRecord> = Vec::new();
     let mut acceptable_count = 0usize;
     let mut ls_failures = 0usize;
     let mut theta_hist: Vec<f64> = Vec::new();
-    let mut adaptive = matches!(options.mu_strategy, MuStrategy::Adaptive);
+    let want_adaptive = matches!(options.mu_strategy, MuStrategy::Adaptive);
+    // free (probing) mode of the adaptive μ strategy; false: monotone (fixed) mode
+    let mut adaptive = want_adaptive;
+    // KKT errors of the last free-mode iterations (IPOPT `adaptive_mu_globalization =
+    // kkt-error`, 4 reference values, reduction factor 0.9999)
+    let mut free_refs: Vec<f64> = Vec::new();
     let status: SolveStatus;
     let mut iter = 0usize;
     let mut last_rec = IterationRecord::default();
@@ -460,9 +609,25 @@ pub fn solve(
             } else {
                 infeasible_stall = 0;
             }
-            if infeasible_stall >= 3 || (stalled && (ls_failures >= 3 || nu > 1e8)) {
+            if infeasible_stall >= 3 || (stalled && ls_failures >= 3) {
                 status = SolveStatus::Infeasible;
                 break;
+            }
+        }
+
+        // ---- adaptive μ globalisation: leave free mode without sufficient progress -------
+        if adaptive {
+            let max_ref = free_refs.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            if free_refs.len() >= FREE_MODE_REFS && err0 > FREE_MODE_RED * max_ref {
+                adaptive = false;
+                free_refs.clear();
+                mu =
+                    (FIXED_MU_FACTOR * st.average_complementarity()).clamp(options.tol / 10.0, 1e5);
+            } else {
+                free_refs.push(err0);
+                if free_refs.len() > FREE_MODE_REFS {
+                    free_refs.remove(0);
+                }
             }
         }
 
@@ -472,6 +637,11 @@ pub fn solve(
                 let s_c_mu = st.complementarity(mu) / s_c;
                 let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
                 if err_mu > KAPPA_EPS * mu || mu <= options.tol / 10.0 {
+                    break;
+                }
+                if want_adaptive && ls_failures == 0 {
+                    // barrier problem solved: back to free mode
+                    adaptive = true;
                     break;
                 }
                 mu = (options.tol / 10.0).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
@@ -493,9 +663,9 @@ pub fn solve(
         for i in 0..m {
             let k = st.slack_of_row[i];
             d_c[i] = if k == NO_SLACK {
-                DELTA_C
+                delta_c
             } else {
-                1.0 / sigma[n + k].max(1e-20) + DELTA_C
+                1.0 / sigma[n + k].max(1e-20) + delta_c
             };
         }
         let mut delta_w = 0.0f64;
@@ -510,6 +680,9 @@ pub fn solve(
                 .factor(&kvals)
                 .map_err(|e| SolveError::Backend(e.to_string()))?;
             factorizations += 1;
+            if debug {
+                eprintln!("    delta_w {delta_w:.2e}: inertia {inertia:?} (want {n}, {m})");
+            }
             if inertia
                 == (Inertia {
                     positive: n,
@@ -554,8 +727,12 @@ pub fn solve(
         };
 
         // ---- Newton direction (solves for a given μ) -----------------------------------------
+        let b_save = &mut b_save_buf;
+        let res = &mut res_buf;
+        let d_c_reg = &d_c_reg_buf;
         let mut direction = |st: &State,
                              mu: f64,
+                             r: &[f64],
                              rhs: &mut [f64],
                              dw: &mut [f64],
                              dlam: &mut [f64],
@@ -564,7 +741,7 @@ pub fn solve(
             // first block: −(∇f + Jᵀλ − μ/(x−L) + μ/(U−x)); slack part r_s
             rhs[..n].copy_from_slice(&st.grad);
             for k in 0..st.jv.len() {
-                rhs[prob.jac.cols[k]] += st.jv[k] * st.lam[prob.jac.rows[k]];
+                rhs[jac_cols[k]] += st.jv[k] * st.lam[jac_rows[k]];
             }
             for j in 0..big_n {
                 let mut b = 0.0;
@@ -589,11 +766,33 @@ pub fn solve(
                 };
             }
             let t = Instant::now();
+            b_save.copy_from_slice(rhs);
             linear
                 .solve(rhs)
                 .map_err(|e| SolveError::Backend(e.to_string()))?;
             if let Some(c) = &correction {
                 c.apply(rhs);
+            } else {
+                // iterative refinement against the unregularised constraint block
+                let bnorm = inf_norm(b_save).max(1.0);
+                let mut last = f64::INFINITY;
+                for _ in 0..MAX_REFINE {
+                    kkt_residual(&pattern, &kvals, d_c_reg, b_save, rhs, res);
+                    let rn = inf_norm(res);
+                    if debug {
+                        eprintln!("    refine: |res| = {rn:.3e}, |b| = {bnorm:.3e}");
+                    }
+                    if rn <= REFINE_TOL * bnorm || rn >= 0.9 * last {
+                        break;
+                    }
+                    last = rn;
+                    linear
+                        .solve(res)
+                        .map_err(|e| SolveError::Backend(e.to_string()))?;
+                    for (x, d) in rhs.iter_mut().zip(res.iter()) {
+                        *x += d;
+                    }
+                }
             }
             *lin_time += t.elapsed();
             dw[..n].copy_from_slice(&rhs[..n]);
@@ -606,7 +805,7 @@ pub fn solve(
 
         // ---- adaptive μ: Mehrotra probing with the affine-scaling direction ---------------
         if adaptive {
-            direction(&st, 0.0, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+            direction(&st, 0.0, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
             for j in 0..big_n {
                 dzl[j] = if st.has_l[j] {
                     -st.zl[j] - st.zl[j] / (st.w[j] - st.wl[j]) * dw[j]
@@ -642,73 +841,150 @@ pub fn solve(
             }
         }
         tau = (1.0 - mu).max(0.99);
-        direction(&st, mu, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
-        for j in 0..big_n {
-            dzl[j] = if st.has_l[j] {
-                let sl = st.w[j] - st.wl[j];
-                mu / sl - st.zl[j] - st.zl[j] / sl * dw[j]
-            } else {
-                0.0
-            };
-            dzu[j] = if st.has_u[j] {
-                let su = st.wu[j] - st.w[j];
-                mu / su - st.zu[j] + st.zu[j] / su * dw[j]
-            } else {
-                0.0
-            };
-        }
+        direction(&st, mu, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
         let alpha_max = fraction_to_boundary(&st, &st.w, &dw, tau);
-        let alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
 
-        // ---- ℓ₁-merit backtracking line search ----------------------------------------------
-        let theta1 = one_norm(&r);
-        let mut gphi_d = dot(&st.grad, &dw[..n]);
-        for j in 0..big_n {
-            if st.has_l[j] {
-                gphi_d -= mu / (st.w[j] - st.wl[j]) * dw[j];
-            }
-            if st.has_u[j] {
-                gphi_d += mu / (st.wu[j] - st.w[j]) * dw[j];
-            }
+        // ---- filter line search with second-order correction (Wächter & Biegler 2006) -------
+        let theta0 = one_norm(&r);
+        if iter == 0 {
+            theta_max = 1e4 * theta0.max(1.0);
+            theta_min = 1e-4 * theta0.max(1.0);
         }
-        if theta1 > 0.0 {
-            let need = gphi_d / (0.9 * theta1);
-            if need > nu {
-                nu = (1.5 * need).max(nu);
-            }
+        if mu != filter_mu {
+            filter.clear();
+            filter_mu = mu;
         }
-        let dphi = (gphi_d - nu * theta1).min(0.0);
-        let phi0 = st.barrier(st.f, &st.w, mu) + nu * theta1;
+        let phi0 = st.barrier(st.f, &st.w, mu);
+        let gphi_d = barrier_directional_derivative(&st, mu, &dw);
+        let alpha_min = if gphi_d < 0.0 {
+            GAMMA_ALPHA
+                * GAMMA_THETA
+                    .min(GAMMA_PHI * theta0 / -gphi_d)
+                    .min(SWITCH_DELTA * theta0.powf(S_THETA) / (-gphi_d).powf(S_PHI))
+        } else {
+            GAMMA_ALPHA * GAMMA_THETA
+        };
+        // Acceptance test of a trial point (θ, φ) for the step size α of the search direction;
+        // returns Some(armijo_step) when acceptable.
+        let acceptable =
+            |alpha: f64, theta: f64, phi: f64, filter: &[(f64, f64)]| -> Option<bool> {
+                if !phi.is_finite() || theta > theta_max {
+                    return None;
+                }
+                if filter.iter().any(|&(ft, fp)| theta >= ft && phi >= fp) {
+                    return None;
+                }
+                let switching = gphi_d < 0.0
+                    && alpha * (-gphi_d).powf(S_PHI) > SWITCH_DELTA * theta0.powf(S_THETA);
+                if switching && theta0 <= theta_min {
+                    return (phi <= phi0 + ETA_PHI * alpha * gphi_d).then_some(true);
+                }
+                if theta <= (1.0 - GAMMA_THETA) * theta0 || phi <= phi0 - GAMMA_PHI * theta0 {
+                    let armijo = switching && phi <= phi0 + ETA_PHI * alpha * gphi_d;
+                    Some(armijo)
+                } else {
+                    None
+                }
+            };
         let mut alpha = alpha_max;
         let mut trials = 0usize;
         let mut accepted = false;
+        let mut armijo_step = false;
         let mut f_t = st.f;
-        let wnorm = inf_norm(&st.w).max(1.0);
         let dnorm = inf_norm(&dw);
-        while trials < 40 {
+        let wnorm = inf_norm(&st.w).max(1.0);
+        loop {
             trials += 1;
             for j in 0..big_n {
                 wt[j] = st.w[j] + alpha * dw[j];
             }
-            // only a full step that is already at round-off level is accepted unconditionally
-            let tiny = alpha_max * dnorm <= 10.0 * f64::EPSILON * wnorm;
             let ev = prob
                 .objective(&wt[..n])
                 .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f));
+            let mut theta_t = f64::INFINITY;
             if let Ok(f) = ev {
                 st.residual(&wt, &ct, &mut rt);
-                let phi = st.barrier(f, &wt, mu) + nu * one_norm(&rt);
-                if phi.is_finite() && (phi <= phi0 + ETA * alpha * dphi || tiny) {
+                theta_t = one_norm(&rt);
+                let phi = st.barrier(f, &wt, mu);
+                if let Some(a) = acceptable(alpha, theta_t, phi, &filter) {
                     f_t = f;
+                    accepted = true;
+                    armijo_step = a;
+                    break;
+                }
+            }
+            // only a full step that is already at round-off level is accepted unconditionally
+            let tiny = alpha_max * dnorm <= 10.0 * f64::EPSILON * wnorm;
+            if tiny && ev.is_ok() {
+                f_t = ev.unwrap_or(st.f);
+                accepted = true;
+                break;
+            }
+            // second-order correction after the first trial step was rejected for θ
+            if trials == 1 && theta_t.is_finite() && theta_t >= theta0 {
+                let mut theta_old = theta0;
+                let mut theta_soc = theta_t;
+                for i in 0..m {
+                    soc_rhs_r[i] = alpha * r[i] + rt[i];
+                }
+                let mut soc_ok = false;
+                for _ in 0..MAX_SOC {
+                    if theta_soc > KAPPA_SOC * theta_old && theta_old != theta0 {
+                        break;
+                    }
+                    direction(
+                        &st,
+                        mu,
+                        &soc_rhs_r,
+                        &mut rhs,
+                        &mut dw_soc,
+                        &mut dlam_soc,
+                        &mut lin_time,
+                    )?;
+                    let a_soc = fraction_to_boundary(&st, &st.w, &dw_soc, tau);
+                    for j in 0..big_n {
+                        wt[j] = st.w[j] + a_soc * dw_soc[j];
+                    }
+                    let ev = prob
+                        .objective(&wt[..n])
+                        .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f));
+                    let Ok(f) = ev else { break };
+                    st.residual(&wt, &ct, &mut rt);
+                    theta_old = theta_soc;
+                    theta_soc = one_norm(&rt);
+                    let phi = st.barrier(f, &wt, mu);
+                    if let Some(a) = acceptable(alpha_max, theta_soc, phi, &filter) {
+                        f_t = f;
+                        armijo_step = a;
+                        soc_ok = true;
+                        break;
+                    }
+                    for i in 0..m {
+                        soc_rhs_r[i] = a_soc * soc_rhs_r[i] + rt[i];
+                    }
+                }
+                if soc_ok {
+                    dw.copy_from_slice(&dw_soc);
+                    dlam.copy_from_slice(&dlam_soc);
+                    alpha = 1.0;
+                    // the step w + a_soc dw_soc is already in wt: rescale so that α dw = it
+                    let a_soc = fraction_to_boundary(&st, &st.w, &dw_soc, tau);
+                    dw.iter_mut().for_each(|v| *v *= a_soc);
+                    dlam.iter_mut().for_each(|v| *v *= a_soc);
                     accepted = true;
                     break;
                 }
             }
-            if tiny {
+            alpha *= 0.5;
+            if alpha < alpha_min || trials >= 60 {
                 break;
             }
-            alpha *= 0.5;
         }
+        if accepted && !armijo_step {
+            filter.push(((1.0 - GAMMA_THETA) * theta0, phi0 - GAMMA_PHI * theta0));
+        }
+        bound_multiplier_steps(&st, mu, &dw, &mut dzl, &mut dzu);
+        let alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
         if accepted {
             ls_failures = 0;
         } else {
@@ -725,7 +1001,8 @@ pub fn solve(
                 };
                 break;
             }
-            // keep the last (shortest) trial point and try again from there
+            // no restoration phase: take the shortest trial step, reset the filter and go on
+            filter.clear();
             for j in 0..big_n {
                 wt[j] = st.w[j] + alpha * dw[j];
             }
