@@ -498,6 +498,37 @@ pub fn solve(
             gl[j] += st.zu[j] - st.zl[j];
         }
         let inf_du = inf_norm(&gl);
+        if debug {
+            let (jg, _) = gl.iter().enumerate().fold((0, 0.0f64), |(bj, bv), (j, v)| {
+                if v.abs() > bv {
+                    (j, v.abs())
+                } else {
+                    (bj, bv)
+                }
+            });
+            let (il, _) = st
+                .lam
+                .iter()
+                .enumerate()
+                .fold((0, 0.0f64), |(bi, bv), (i, v)| {
+                    if v.abs() > bv {
+                        (i, v.abs())
+                    } else {
+                        (bi, bv)
+                    }
+                });
+            eprintln!(
+                "    max |grad L| at w[{jg}] (slack: {}) = {:.3e}, w = {:.6e} in [{:.6e}, {:.6e}], zl {:.3e}, zu {:.3e}",
+                jg >= n, gl[jg], st.w[jg], st.wl[jg], st.wu[jg], st.zl[jg], st.zu[jg]
+            );
+            eprintln!(
+                "    max |lambda| at row {il} (inequality: {}) = {:.3e}",
+                st.slack_of_row[il] != NO_SLACK,
+                st.lam[il]
+            );
+            let fixed = (0..n).filter(|&j| st.wu[j] - st.wl[j] < 1e-6).count();
+            eprintln!("    variables with bound interval < 1e-6: {fixed}");
+        }
         let inf_pr = inf_norm(&r);
         let zsum = one_norm(&st.zl) + one_norm(&st.zu);
         let s_d = (S_MAX.max((one_norm(&st.lam) + zsum) / (m + 2 * big_n).max(1) as f64)) / S_MAX;
