@@ -55,6 +55,8 @@ const FIXED_MU_FACTOR: f64 = 0.8;
 /// Iterative refinement: at most this many steps, down to this relative residual.
 const MAX_REFINE: usize = 10;
 const REFINE_TOL: f64 = 1e-10;
+/// KKT diagonal of a fixed variable (x_l = x_u), which keeps its step at zero.
+const FIXED_DIAG: f64 = 1e20;
 /// Least-squares constraint multipliers larger than this are discarded (IPOPT
 /// `constr_mult_init_max`).
 const CONSTR_MULT_INIT_MAX: f64 = 1000.0;
@@ -297,6 +299,7 @@ pub fn solve(
         }
         v
     };
+    let mut fixed_x = vec![false; n];
     let mut xl: Vec<f64> = bounds.x_l.iter().map(|&v| relax(v, -1.0)).collect();
     let mut xu: Vec<f64> = bounds.x_u.iter().map(|&v| relax(v, 1.0)).collect();
     for j in 0..n {
@@ -307,6 +310,13 @@ pub fn solve(
             xu[j] = f64::INFINITY;
         }
         x0[j] = push(xl[j], xu[j], x0[j]);
+        if bounds.x_l[j] == bounds.x_u[j] {
+            // fixed variable: kept at its value, without bounds or multipliers
+            fixed_x[j] = true;
+            xl[j] = f64::NEG_INFINITY;
+            xu[j] = f64::INFINITY;
+            x0[j] = bounds.x_l[j];
+        }
     }
     if options.nlp_scaling {
         prob.compute_gradient_scaling(&x0, options.nlp_scaling_max_gradient)
@@ -496,6 +506,11 @@ pub fn solve(
         st.grad_lag_no_z(&prob.jac.rows, &prob.jac.cols, &mut gl);
         for j in 0..big_n {
             gl[j] += st.zu[j] - st.zl[j];
+        }
+        for j in 0..n {
+            if fixed_x[j] {
+                gl[j] = 0.0;
+            }
         }
         let inf_du = inf_norm(&gl);
         if debug {
@@ -704,7 +719,11 @@ pub fn solve(
         let mut ok = false;
         for _ in 0..60 {
             for j in 0..n {
-                diag_x[j] = sigma[j] + delta_w + b0;
+                diag_x[j] = if fixed_x[j] {
+                    FIXED_DIAG
+                } else {
+                    sigma[j] + delta_w + b0
+                };
             }
             pattern.assemble(&mut kvals, &st.hv, &st.jv, &diag_x, &d_c);
             let inertia = linear
@@ -783,7 +802,7 @@ pub fn solve(
                     b += mu / (st.wu[j] - st.w[j]);
                 }
                 if j < n {
-                    rhs[j] = -(rhs[j] + b);
+                    rhs[j] = if fixed_x[j] { 0.0 } else { -(rhs[j] + b) };
                 } else {
                     r_s[j - n] = -st.lam[st.row_of_slack[j - n]] + b;
                 }
@@ -827,6 +846,11 @@ pub fn solve(
             }
             *lin_time += t.elapsed();
             dw[..n].copy_from_slice(&rhs[..n]);
+            for j in 0..n {
+                if fixed_x[j] {
+                    dw[j] = 0.0;
+                }
+            }
             dlam.copy_from_slice(&rhs[n..]);
             for (k, &i) in st.row_of_slack.iter().enumerate() {
                 dw[n + k] = (dlam[i] - r_s[k]) / sigma[n + k].max(1e-20);
@@ -1139,6 +1163,11 @@ pub fn solve(
     st.grad_lag_no_z(&prob.jac.rows, &prob.jac.cols, &mut gl);
     for j in 0..big_n {
         gl[j] += st.zu[j] - st.zl[j];
+    }
+    for j in 0..n {
+        if fixed_x[j] {
+            gl[j] = 0.0;
+        }
     }
     let dual_infeasibility = inf_norm(&gl[..n]) / prob.obj_scale;
     let sf = prob.obj_scale;
