@@ -473,9 +473,6 @@ pub fn solve(
     }
 
     let mut mu = options.mu_init;
-    // smallest μ: below tol and below the (unscaled) complementarity tolerance, so that the
-    // scaled complementarity ≈ μ can meet `compl_inf_tol` after dividing by the objective scale
-    let mu_floor = options.tol.min(options.compl_inf_tol * prob.obj_scale) / 10.0;
     let mut tau;
     let jac_rows = prob.jac.rows.clone();
     let jac_cols = prob.jac.cols.clone();
@@ -670,7 +667,8 @@ pub fn solve(
             if free_refs.len() >= FREE_MODE_REFS && err0 > FREE_MODE_RED * max_ref {
                 adaptive = false;
                 free_refs.clear();
-                mu = (FIXED_MU_FACTOR * st.average_complementarity()).clamp(mu_floor, 1e5);
+                mu =
+                    (FIXED_MU_FACTOR * st.average_complementarity()).clamp(options.tol / 10.0, 1e5);
             } else {
                 free_refs.push(err0);
                 if free_refs.len() > FREE_MODE_REFS {
@@ -684,7 +682,7 @@ pub fn solve(
             for _ in 0..20 {
                 let s_c_mu = st.complementarity(mu) / s_c;
                 let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
-                if err_mu > KAPPA_EPS * mu || mu <= mu_floor {
+                if err_mu > KAPPA_EPS * mu || mu <= options.tol / 10.0 {
                     break;
                 }
                 if want_adaptive && ls_failures == 0 {
@@ -692,7 +690,7 @@ pub fn solve(
                     adaptive = true;
                     break;
                 }
-                mu = (mu_floor).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
+                mu = (options.tol / 10.0).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
             }
         }
 
@@ -892,9 +890,9 @@ pub fn solve(
             if cnt > 0 && avg > 0.0 {
                 let aff = (s / cnt as f64).max(0.0);
                 let sig = (aff / avg).powi(3).min(1.0);
-                mu = (sig * avg).clamp(mu_floor, 1e5);
+                mu = (sig * avg).clamp(options.tol / 10.0, 1e5);
             } else {
-                mu = mu_floor;
+                mu = options.tol / 10.0;
             }
         }
         tau = (1.0 - mu).max(0.99);
