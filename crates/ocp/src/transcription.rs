@@ -223,6 +223,8 @@ pub struct Transcription<F: NodeFunction> {
     tx0: usize,
     txn: usize,
     cache: Mutex<Cache>,
+    /// Node Hessian values of the last Hessian evaluation (reused, not reallocated).
+    node_hessians: Mutex<Vec<f64>>,
 }
 
 impl<F: NodeFunction> Transcription<F> {
@@ -494,6 +496,7 @@ impl<F: NodeFunction> Transcription<F> {
             tx0,
             txn,
             cache: Mutex::new(Cache::default()),
+            node_hessians: Mutex::new(Vec::new()),
         }
     }
 
@@ -709,7 +712,8 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         // Cost pieces need node values and cost gradients.
         let (s, d, _, cc) = self.with_nodes(x, true, |c| self.cost_parts(x, &c.values));
         // Node Hessians in parallel, then scattered (positions may repeat across nodes).
-        let mut node_h = vec![0.0; self.n_nodes * nh];
+        let mut node_h = self.node_hessians.lock().unwrap_or_else(|e| e.into_inner());
+        node_h.resize(self.n_nodes * nh, 0.0);
         node_h.par_chunks_mut(nh).enumerate().for_each_init(
             || (vec![0.0; nin], vec![0.0; self.n_out]),
             |(xin, w), (i, hv)| {
