@@ -242,3 +242,144 @@ pub enum GuessError {
     #[error("the {0} guess needs experimental kinematics")]
     MissingData(GuessKind),
 }
+
+/// Which part of a neighbouring optimal solution seeds a continuation guess
+/// (FORMULATION 10.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContinuationKind {
+    /// The entire optimal NLP vector (t_f, states, controls), rescaled to this problem.
+    FullSolution,
+    /// Only the joint positions (re-filtered and splined); muscle and arm parts as usual.
+    PartialSolution,
+}
+
+/// Why a continuation guess could not be built from a solution.
+#[derive(Debug, thiserror::Error)]
+pub enum ContinuationError {
+    /// The source solution has another variable layout.
+    #[error("source solution layout {from:?} differs from the problem's {target:?} (mesh intervals, muscles, coordinates, arm actuators)")]
+    Layout {
+        /// (N, muscles, coordinates, arms) of the source.
+        from: [usize; 4],
+        /// (N, muscles, coordinates, arms) of the problem.
+        target: [usize; 4],
+    },
+    /// The source vector has the wrong length.
+    #[error("source solution has {got} variables, its layout needs {expected}")]
+    Length {
+        /// Length given.
+        got: usize,
+        /// Length expected.
+        expected: usize,
+    },
+    /// The source coordinate samples are unusable.
+    #[error("source coordinates: {0}")]
+    Coordinates(String),
+}
+
+fn layout_dims(l: &Layout) -> [usize; 4] {
+    [l.n, l.nm, l.nq, l.na]
+}
+
+impl crate::problem::GaitProblem {
+    /// Full-OS guess: the solution `x` of `source` (same layout), with positions, speeds and
+    /// accelerations unscaled by the source's scale factors and rescaled by this problem's.
+    pub fn guess_from_full_solution(
+        &self,
+        source: &crate::problem::GaitProblem,
+        x: &[f64],
+    ) -> Result<Vec<f64>, ContinuationError> {
+        let (l, ls) = (&self.layout, &source.layout);
+        if layout_dims(l) != layout_dims(ls) {
+            return Err(ContinuationError::Layout {
+                from: layout_dims(ls),
+                target: layout_dims(l),
+            });
+        }
+        if x.len() != ls.len() {
+            return Err(ContinuationError::Length {
+                got: x.len(),
+                expected: ls.len(),
+            });
+        }
+        let (s, so) = (&self.scaling, &source.scaling);
+        let mut out = x.to_vec();
+        let mut points: Vec<Point> = (0..=l.n).map(Point::Mesh).collect();
+        for k in 0..l.n {
+            for j in 1..=3 {
+                points.push(Point::Col(k, j));
+            }
+        }
+        for &p in &points {
+            for i in 0..l.nq {
+                out[l.q(p, i)] = x[ls.q(p, i)] * so.q[i] / s.q[i];
+                out[l.v(p, i)] = x[ls.v(p, i)] * so.v[i] / s.v[i];
+            }
+        }
+        for k in 0..l.n {
+            for j in 1..=3 {
+                for i in 0..l.nq {
+                    out[l.u_dv(k, j, i)] = x[ls.u_dv(k, j, i)] * so.a[i] / s.a[i];
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// Partial-OS guess: joint positions `q[sample][coordinate]` [rad or m] (problem order)
+    /// at `time` [s] from a neighbouring solution (its first N cycle samples), low-pass
+    /// filtered and splined as the experimental data to obtain speeds and accelerations;
+    /// muscle and arm parts as in every guess; t_f = the duration of those samples.
+    pub fn guess_from_coordinates(
+        &self,
+        time: &[f64],
+        q: &[Vec<f64>],
+    ) -> Result<Vec<f64>, ContinuationError> {
+        let l = &self.layout;
+        if time.len() != q.len() || q.iter().any(|r| r.len() != l.nq) {
+            return Err(ContinuationError::Coordinates(format!(
+                "{} times and {} rows of {} coordinates expected",
+                time.len(),
+                q.len(),
+                l.nq
+            )));
+        }
+        let mut labels = vec!["time".to_string()];
+        labels.extend(self.gait.coordinates.iter().map(|c| c.name.clone()));
+        let rows = time
+            .iter()
+            .zip(q)
+            .map(|(&t, r)| std::iter::once(t).chain(r.iter().copied()).collect())
+            .collect();
+        let storage = stride_model::storage::Storage {
+            name: "neighbouring solution".into(),
+            in_degrees: Some(false),
+            labels,
+            rows,
+        };
+        let kin = Kinematics::from_storage(&storage, &self.gait, "neighbouring solution")
+            .map_err(|e| ContinuationError::Coordinates(e.to_string()))?;
+        let tx = self.gait.forward_translation;
+        let coords = data_informed(&kin, l.n, tx);
+        let tf = time[time.len() - 1] - time[0];
+        let half = self.is_half_cycle();
+        let mirror = |q: &[f64]| {
+            if half {
+                self.mirror_coordinates(q)
+            } else {
+                q.to_vec()
+            }
+        };
+        Ok(assemble(
+            l,
+            &self.scaling,
+            &coords,
+            &MuscleGuess::for_settings(&self.settings),
+            tf,
+            tx,
+            &mirror,
+            &mirror,
+        ))
+    }
+}

@@ -29,6 +29,9 @@ pub struct NodeModel {
     root: Vec<usize>,
     /// Problem indices of the muscle-driven coordinates, with their passive torque element.
     muscle_driven: Vec<(usize, Option<usize>)>,
+    /// Per muscle-driven coordinate: stiffness k [N m rad⁻¹] of a prosthetic joint whose
+    /// passive torque is −k q (not in the cost), `None` for a biological joint.
+    prosthetic: Vec<Option<f64>>,
     /// Problem indices of the actuator-driven coordinates.
     actuator_driven: Vec<usize>,
     /// Per muscle-driven coordinate: (problem muscle, flat moment-arm index).
@@ -163,6 +166,16 @@ impl NodeModel {
                 terms
             })
             .collect();
+        let prosthetic = muscle_driven
+            .iter()
+            .map(|&(i, _)| {
+                p.settings.prosthesis.as_ref().and_then(|pr| {
+                    crate::settings::PROSTHESIS_COORDINATES
+                        .contains(&g.coordinates[i].name.as_str())
+                        .then_some(pr.stiffness)
+                })
+            })
+            .collect();
         let mut distances = Vec::new();
         for d in &p.settings.min_distances {
             let body = |n: &str| {
@@ -184,6 +197,7 @@ impl NodeModel {
             locked: g.locked.clone(),
             root: g.root(),
             muscle_driven,
+            prosthetic,
             actuator_driven: g.actuator_driven(),
             torque_terms,
             muscle_model,
@@ -335,15 +349,18 @@ impl NodeModel {
             for &(m, arm) in &self.torque_terms[t] {
                 muscle += ws.arms[arm] * ws.tendon[m];
             }
-            let tp = match passive {
-                Some(pi) => stride_muscle::passive::passive_torque(
+            let tp = match (self.prosthetic[t], passive) {
+                (Some(k), _) => ws.q[c] * (-k),
+                (None, Some(pi)) => stride_muscle::passive::passive_torque(
                     &self.model.passive_torques[pi],
                     ws.q[c],
                     ws.v[c],
                 ),
-                None => T::zero(),
+                (None, None) => T::zero(),
             };
-            sum_tp2 += tp * tp;
+            if self.prosthetic[t].is_none() {
+                sum_tp2 += tp * tp;
+            }
             y[out] = tau[c] - (muscle + tp);
             out += 1;
         }
@@ -378,7 +395,9 @@ impl NodeModel {
         let w = &self.weights;
         let nmf = nm as f64;
         let na = self.actuator_driven.len().max(1) as f64;
-        let n_tp = (self.muscle_driven.len() + self.actuator_driven.len()).max(1) as f64;
+        let n_prosthetic = self.prosthetic.iter().filter(|k| k.is_some()).count();
+        let n_tp =
+            (self.muscle_driven.len() + self.actuator_driven.len() - n_prosthetic).max(1) as f64;
         let mut l = sum_a2 * (w.activation / nmf)
             + sum_acc2 * (w.acceleration / n_acc.max(1) as f64)
             + sum_tp2 * (w.passive_torque / n_tp)
@@ -450,9 +469,11 @@ impl NodeModel {
                     .total,
             );
         }
-        for &(i, passive) in &self.muscle_driven {
-            if let Some(pi) = passive {
-                let c = self.coord_model[i];
+        for (t, &(i, passive)) in self.muscle_driven.iter().enumerate() {
+            let c = self.coord_model[i];
+            if let Some(k) = self.prosthetic[t] {
+                out.passive[i] = -k * ws.q[c];
+            } else if let Some(pi) = passive {
                 out.passive[i] = stride_muscle::passive::passive_torque(
                     &self.model.passive_torques[pi],
                     ws.q[c],

@@ -5,7 +5,7 @@ use crate::bounds::CoordinateBounds;
 use crate::experimental::Kinematics;
 use crate::gait::{GaitModel, GaitModelError};
 use crate::layout::{Layout, Point};
-use crate::settings::{CycleKind, ProblemSettings};
+use crate::settings::{CycleKind, ProblemSettings, PROSTHESIS_BODIES, PROSTHESIS_REMOVED_MUSCLES};
 use stride_model::Model;
 
 /// Scale factors: NLP variable = physical value / scale (FORMULATION 8.8).
@@ -66,6 +66,48 @@ pub enum ProblemError {
     /// A muscle named in the settings does not exist.
     #[error("strength: unknown muscle `{0}`")]
     UnknownMuscle(String),
+    /// The prosthesis needs a body or muscle the model does not have.
+    #[error("prosthesis: the model has no {kind} `{name}`")]
+    Prosthesis {
+        /// `body` or `muscle`.
+        kind: &'static str,
+        /// Its name.
+        name: String,
+    },
+}
+
+/// Factor on the maximal isometric force of the muscles a prosthesis removes: the gait
+/// view needs left–right muscle pairs, so they stay in the problem but produce no force
+/// (and, with their mass from F_max, no metabolic energy).
+pub const REMOVED_MUSCLE_FORCE_SCALE: f64 = 1e-6;
+
+/// Apply the prosthesis changes of the settings (FORMULATION 12.1) to a model: lighter
+/// shank and foot, ankle and subtalar muscles of the right leg without force.
+pub fn apply_prosthesis(
+    model: &mut Model,
+    p: &crate::settings::Prosthesis,
+) -> Result<(), ProblemError> {
+    for name in PROSTHESIS_BODIES {
+        let b = model
+            .body_index(name)
+            .ok_or_else(|| ProblemError::Prosthesis {
+                kind: "body",
+                name: name.into(),
+            })?;
+        let body = &mut model.bodies[b];
+        body.mass *= p.mass_scale;
+        body.inertia.iter_mut().for_each(|i| *i *= p.inertia_scale);
+    }
+    for name in PROSTHESIS_REMOVED_MUSCLES {
+        let m = model
+            .muscle_index(name)
+            .ok_or_else(|| ProblemError::Prosthesis {
+                kind: "muscle",
+                name: name.into(),
+            })?;
+        model.muscles[m].max_isometric_force *= REMOVED_MUSCLE_FORCE_SCALE;
+    }
+    Ok(())
 }
 
 /// Muscle activation time constants [s] (Raasch model).
@@ -166,6 +208,9 @@ impl GaitProblem {
                 model.muscles[i].max_isometric_force *= change.scale;
             }
         }
+        if let Some(p) = &settings.prosthesis {
+            apply_prosthesis(&mut model, p)?;
+        }
         let gait = GaitModel::new(&model)?;
         let data = Kinematics::from_storage(bounds_data, &gait, "bounds kinematics")?;
         let bounds = CoordinateBounds::new(&gait, &data, settings)?;
@@ -250,5 +295,67 @@ impl GaitProblem {
             .iter()
             .map(|c| q[c.mirror] * c.mirror_sign)
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn weakness_groups_match_formulation_12_2() {
+        // 27 hip muscles and 8 plantarflexors per leg (FORMULATION 12.2).
+        assert_eq!(strength_group("hip").len(), 27);
+        assert_eq!(strength_group("plantarflexors").len(), 8);
+        let hip = strength_group("hip");
+        for m in [
+            "glut_med3",
+            "add_mag3",
+            "glut_max3",
+            "rect_fem",
+            "peri",
+            "gem",
+        ] {
+            assert!(hip.contains(&m), "{m}");
+        }
+        let mut all = hip.to_vec();
+        all.sort();
+        all.dedup();
+        assert_eq!(all.len(), 27, "no duplicates");
+    }
+
+    #[test]
+    fn prosthesis_changes_the_published_masses() {
+        let model = stride_model::default_model::default_model();
+        let mut m = model.clone();
+        apply_prosthesis(&mut m, &crate::settings::Prosthesis::default()).unwrap();
+        // FORMULATION 12.1: masses after −35 % and the new body mass.
+        let expected = [
+            ("tibia_r", 1.809420105393108),
+            ("talus_r", 0.048804318419234),
+            ("calcn_r", 0.610053980240428),
+            ("toes_r", 0.105710153696061),
+        ];
+        for (name, mass) in expected {
+            let b = m.body_index(name).unwrap();
+            assert!((m.bodies[b].mass - mass).abs() < 1e-9, "{name}");
+            let b0 = model.body_index(name).unwrap();
+            assert!((m.bodies[b].inertia[0] - 0.4 * model.bodies[b0].inertia[0]).abs() < 1e-15);
+        }
+        // The published 60.6140512 kg is 4.5e-5 kg above our sum: the nominal model's body
+        // masses add up to 61.99995 kg, not 62 (FORMULATION 1, A.2).
+        assert!(
+            (m.total_mass() - 60.6140512).abs() < 1e-4,
+            "{}",
+            m.total_mass()
+        );
+        let i = m.muscle_index("soleus_r").unwrap();
+        let i0 = model.muscle_index("soleus_r").unwrap();
+        assert!(m.muscles[i].max_isometric_force < 1e-5 * model.muscles[i0].max_isometric_force);
+        let l = m.muscle_index("soleus_l").unwrap();
+        assert_eq!(
+            m.muscles[l].max_isometric_force,
+            model.muscles[l].max_isometric_force
+        );
     }
 }

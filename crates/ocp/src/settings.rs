@@ -37,7 +37,56 @@ pub struct ProblemSettings {
     pub transcription: TranscriptionVariant,
     /// Minimum horizontal distances between body origins (prevent segment interpenetration).
     pub min_distances: Vec<DistanceConstraint>,
+    /// Passive transtibial prosthesis on the right leg (FORMULATION 12.1); needs
+    /// `cycle = "full-periodic"`.
+    pub prosthesis: Option<Prosthesis>,
 }
+
+/// Right-leg passive transtibial prosthesis: ankle and subtalar muscles removed, passive
+/// ankle and subtalar torques T = −k q, lighter shank and foot (FORMULATION 12.1).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Prosthesis {
+    /// Stiffness k of the prosthetic ankle and subtalar joints [N m rad⁻¹] (800).
+    pub stiffness: f64,
+    /// Factor on the masses of tibia_r, talus_r, calcn_r, toes_r (0.65: −35 %).
+    pub mass_scale: f64,
+    /// Factor on the moments of inertia of those bodies (0.4: −60 %).
+    pub inertia_scale: f64,
+}
+
+impl Default for Prosthesis {
+    /// The paper's prosthesis.
+    fn default() -> Self {
+        Self {
+            stiffness: 800.0,
+            mass_scale: 0.65,
+            inertia_scale: 0.4,
+        }
+    }
+}
+
+/// Right-leg muscles removed by the prosthesis (the 12 crossing the ankle or subtalar).
+pub const PROSTHESIS_REMOVED_MUSCLES: [&str; 12] = [
+    "med_gas_r",
+    "lat_gas_r",
+    "soleus_r",
+    "tib_post_r",
+    "flex_dig_r",
+    "flex_hal_r",
+    "tib_ant_r",
+    "per_brev_r",
+    "per_long_r",
+    "per_tert_r",
+    "ext_dig_r",
+    "ext_hal_r",
+];
+
+/// Right-leg bodies lightened by the prosthesis.
+pub const PROSTHESIS_BODIES: [&str; 4] = ["tibia_r", "talus_r", "calcn_r", "toes_r"];
+
+/// Coordinates driven by the prosthesis's passive torque −k q.
+pub const PROSTHESIS_COORDINATES: [&str; 2] = ["ankle_angle_r", "subtalar_angle_r"];
 
 /// Keep two body origins apart in the horizontal (ground x–z) plane.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -89,6 +138,7 @@ impl Default for ProblemSettings {
             coordinate_bounds: Vec::new(),
             transcription: TranscriptionVariant::V2,
             min_distances: paper_distances(),
+            prosthesis: None,
         }
     }
 }
@@ -300,6 +350,26 @@ impl ProblemSettings {
                 )?;
             }
         }
+        if let Some(p) = &self.prosthesis {
+            check(
+                self.cycle == CycleKind::FullPeriodic,
+                "prosthesis",
+                "{..}",
+                "an asymmetric gait needs `cycle = \"full-periodic\"`",
+            )?;
+            check(
+                p.stiffness.is_finite() && p.stiffness >= 0.0,
+                "prosthesis.stiffness",
+                p.stiffness,
+                "must be a stiffness ≥ 0 (N m/rad)",
+            )?;
+            for (k, v) in [
+                ("prosthesis.mass_scale", p.mass_scale),
+                ("prosthesis.inertia_scale", p.inertia_scale),
+            ] {
+                check(v > 0.0 && v <= 1.0, k, v, "must lie in (0, 1]")?;
+            }
+        }
         for (i, d) in self.min_distances.iter().enumerate() {
             check(
                 d.min >= 0.0 && d.max > d.min,
@@ -360,5 +430,22 @@ mod tests {
         let s: ProblemSettings =
             toml::from_str("[[strength]]\ngroup = \"knee\"\nscale = 0.5").unwrap();
         assert_eq!(s.validate().unwrap_err().key, "strength[0].group");
+    }
+
+    #[test]
+    fn prosthesis_defaults_are_the_paper_values_and_need_a_full_cycle() {
+        let s: ProblemSettings = toml::from_str("[prosthesis]").unwrap();
+        assert_eq!(s.prosthesis, Some(Prosthesis::default()));
+        let p = s.prosthesis.clone().unwrap();
+        assert_eq!(
+            (p.stiffness, p.mass_scale, p.inertia_scale),
+            (800.0, 0.65, 0.4)
+        );
+        assert_eq!(s.validate().unwrap_err().key, "prosthesis");
+        let s: ProblemSettings =
+            toml::from_str("cycle = \"full-periodic\"\n[prosthesis]\nmass_scale = 1.5").unwrap();
+        assert_eq!(s.validate().unwrap_err().key, "prosthesis.mass_scale");
+        let e = toml::from_str::<ProblemSettings>("[prosthesis]\nstifness = 1").unwrap_err();
+        assert!(e.to_string().contains("stifness"), "{e}");
     }
 }

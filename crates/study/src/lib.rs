@@ -1,1 +1,13 @@
-//! stride-study: Study files, parameter sweeps and result stores for stride.
+//! stride-study: study files, parameter sweeps and result stores for stride.
+//!
+//! - [`spec`]: study files (`[study]`, `[base]`, `[grid]`) expanded into named cases.
+//! - [`store`]: the output folder (finished cases, study hash, `index.csv`).
+//! - [`runner`]: parallel, resumable execution through a [`runner::CaseRunner`].
+//! - [`predict_runner`]: the real runner (`stride_ocp::predict`, continuation guesses).
+//! - [`analysis`]: walk/run classification, transition speed, fits, `report.json`.
+
+pub mod analysis;
+pub mod predict_runner;
+pub mod runner;
+pub mod spec;
+pub mod store;

@@ -1,0 +1,217 @@
+//! The real case runner: builds the gait problem of a case, solves it from its initial
+//! guess (standard or continuation), writes `stride predict`'s result files, the solution
+//! (`solution.json`, for continuation guesses of later cases) and the outcome measures.
+
+use crate::analysis::energy_phase_correlation;
+use crate::runner::CaseRunner;
+use crate::spec::{Case, CaseGuess};
+use crate::store::{CaseOutcome, Metrics};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::sync::Arc;
+use stride_model::storage::write_atomic;
+use stride_model::Model;
+use stride_ocp::guess::{ContinuationKind, GuessKind};
+use stride_ocp::node::NodeModel;
+use stride_ocp::predict::{self, GuessReport, Solved};
+use stride_ocp::problem::{GaitProblem, GRAVITY};
+use stride_ocp::settings::ProblemSettings;
+use stride_ocp::tape_node::TapeNode;
+use stride_ocp::transcription::Transcription;
+use stride_solve::solver::{ControlFlow, Solver, SolverOptions};
+
+/// File with a case's optimal NLP vector and its reconstructed cycle coordinates.
+pub const SOLUTION_FILE: &str = "solution.json";
+
+/// The solution of a finished case, as needed by continuation guesses.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SolutionFile {
+    /// Settings the solution belongs to.
+    pub settings: ProblemSettings,
+    /// Scaled NLP variable vector of the kept solve.
+    pub x: Vec<f64>,
+    /// Sample times of the reconstructed gait cycle [s] (from right heel strike).
+    pub cycle_time: Vec<f64>,
+    /// Coordinates of the reconstructed cycle [rad or m], problem order.
+    pub cycle_q: Vec<Vec<f64>>,
+}
+
+/// Runs cases with `stride_ocp::predict` and a solver backend.
+pub struct PredictRunner {
+    /// Musculoskeletal model.
+    pub model: Model,
+    /// Solver backend.
+    pub solver: Box<dyn Solver + Sync>,
+    /// Solver options (threads = threads per case).
+    pub options: SolverOptions,
+}
+
+fn err(e: impl std::fmt::Display) -> String {
+    e.to_string()
+}
+
+impl PredictRunner {
+    /// Initial NLP vector of a continuation guess from the source case folder.
+    fn continuation_guess(
+        &self,
+        problem: &GaitProblem,
+        kind: ContinuationKind,
+        source: &Path,
+    ) -> Result<Vec<f64>, String> {
+        let p = source.join(SOLUTION_FILE);
+        let text =
+            std::fs::read_to_string(&p).map_err(|e| format!("reading {}: {e}", p.display()))?;
+        let sol: SolutionFile =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
+        match kind {
+            ContinuationKind::FullSolution => {
+                let src = GaitProblem::new(
+                    &self.model,
+                    &sol.settings,
+                    &predict::bounds_data(&sol.settings),
+                )
+                .map_err(err)?;
+                problem.guess_from_full_solution(&src, &sol.x).map_err(err)
+            }
+            ContinuationKind::PartialSolution => {
+                let n = problem.layout.n.min(sol.cycle_time.len());
+                problem
+                    .guess_from_coordinates(&sol.cycle_time[..n], &sol.cycle_q[..n])
+                    .map_err(err)
+            }
+        }
+    }
+
+    /// Solve a problem from an explicit initial point (what `solve_guesses` does for the
+    /// standard guesses); `label` is the guess recorded in predict's summary.
+    fn solve_from(
+        &self,
+        problem: &GaitProblem,
+        x0: Vec<f64>,
+        label: GuessKind,
+    ) -> Result<Solved, String> {
+        let node = NodeModel::new(problem).map_err(err)?;
+        let tape = Arc::new(TapeNode::for_problem(problem, &node, &x0).map_err(err)?);
+        let tr = Transcription::new(problem.clone(), tape, x0);
+        let r = self
+            .solver
+            .solve(&tr, &self.options, &mut |_| ControlFlow::Continue(()))
+            .map_err(|e| format!("solver: {e}"))?;
+        Ok(Solved {
+            report: GuessReport {
+                guess: label,
+                status: format!("{:?}", r.status),
+                converged: r.status.is_success(),
+                iterations: r.iterations,
+                objective: r.objective,
+                constraint_violation: r.constraint_violation,
+                time_total_s: r.time_total.as_secs_f64(),
+                time_evaluations_s: r.time_evaluations.as_secs_f64(),
+                time_solver_s: r
+                    .time_total
+                    .saturating_sub(r.time_evaluations)
+                    .as_secs_f64(),
+            },
+            result: r,
+        })
+    }
+}
+
+/// COM height and forward velocity over a reconstructed cycle → energy phase correlation.
+fn com_energy_correlation(
+    problem: &GaitProblem,
+    q: &[Vec<f64>],
+    v: &[Vec<f64>],
+) -> Result<f64, String> {
+    let model = &problem.model;
+    let mut data = stride_multibody::Data::<f64>::new(model).map_err(err)?;
+    let nc = model.coordinates.len();
+    let (mut qm, mut vm) = (vec![0.0; nc], vec![0.0; nc]);
+    for &(c, val) in &problem.gait.locked {
+        qm[c] = val;
+    }
+    let (mut y, mut vx) = (Vec::with_capacity(q.len()), Vec::with_capacity(q.len()));
+    for (qs, vs) in q.iter().zip(v) {
+        for (i, c) in problem.gait.coordinates.iter().enumerate() {
+            qm[c.model_index] = qs[i];
+            vm[c.model_index] = vs[i];
+        }
+        stride_multibody::forward_kinematics(model, &mut data, &qm, &vm).map_err(err)?;
+        let (p, vel) = stride_multibody::center_of_mass(model, &data);
+        y.push(p[1]);
+        vx.push(vel[0]);
+    }
+    Ok(energy_phase_correlation(
+        &y,
+        &vx,
+        problem.body_mass,
+        GRAVITY,
+    ))
+}
+
+impl CaseRunner for PredictRunner {
+    fn run(&self, case: &Case, source: Option<&Path>, dir: &Path) -> Result<CaseOutcome, String> {
+        let (problem, solved) = match case.guess {
+            CaseGuess::Standard(g) => predict::solve_guesses(
+                &self.model,
+                &case.settings,
+                &[g],
+                self.solver.as_ref(),
+                &self.options,
+                &|_, _| {},
+            )
+            .map_err(err)?,
+            CaseGuess::Continuation(kind) => {
+                let problem = GaitProblem::new(
+                    &self.model,
+                    &case.settings,
+                    &predict::bounds_data(&case.settings),
+                )
+                .map_err(err)?;
+                let src = source.ok_or("continuation guess without a source case")?;
+                let x0 = self.continuation_guess(&problem, kind, src)?;
+                // predict's summary can only name the three standard guesses; the case
+                // record names the real one.
+                let s = self.solve_from(&problem, x0, GuessKind::QuasiRandom)?;
+                (problem, vec![s])
+            }
+        };
+        let kept = predict::select(&solved);
+        let summary = predict::write_results(&problem, &solved, kept, self.solver.name(), dir)
+            .map_err(err)?;
+        let s = &solved[0];
+        let mut outcome = CaseOutcome {
+            converged: s.report.converged,
+            reason: s.report.status.clone(),
+            objective: Some(s.report.objective),
+            iterations: Some(s.report.iterations),
+            metrics: None,
+        };
+        if let (Some(k), Some(o)) = (kept, summary.outcomes.as_ref()) {
+            let node = NodeModel::new(&problem).map_err(err)?;
+            let mesh = problem
+                .mesh_solution(&node, &solved[k].result.x)
+                .map_err(err)?;
+            let cycle = problem.gait_cycle(&mesh);
+            let corr = com_energy_correlation(&problem, &cycle.q, &cycle.v).ok();
+            outcome.metrics = Some(Metrics {
+                cost_of_transport: o.cost_of_transport,
+                stride_length: o.stride_length,
+                stride_frequency: o.stride_frequency,
+                step_width: o.step_width,
+                double_support_fraction: o.double_support_fraction,
+                energy_phase_correlation: corr,
+            });
+            let sol = SolutionFile {
+                settings: case.settings.clone(),
+                x: solved[k].result.x.clone(),
+                cycle_time: cycle.time.clone(),
+                cycle_q: cycle.q.clone(),
+            };
+            let p = dir.join(SOLUTION_FILE);
+            let json = serde_json::to_string(&sol).map_err(err)?;
+            write_atomic(&p, json.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
+        }
+        Ok(outcome)
+    }
+}

@@ -1,0 +1,298 @@
+//! Running a study: cases in parallel (dependencies first), resumable, each failure
+//! recorded without stopping the others, `index.csv` rewritten after every case.
+
+use crate::spec::{varying_axes, Case, Study};
+use crate::store::{CaseOutcome, CaseRecord, CaseStatus, Store, StoreError};
+use std::path::Path;
+use std::sync::{Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+/// Solves one case; the real runner calls `predict`, tests use fakes.
+pub trait CaseRunner: Sync {
+    /// Solve `case`, writing its result files into `dir` (a fresh temporary folder);
+    /// `source` is the finished folder of the case whose solution seeds a continuation
+    /// guess. An `Err` is a failure reason (the study goes on).
+    fn run(&self, case: &Case, source: Option<&Path>, dir: &Path) -> Result<CaseOutcome, String>;
+}
+
+/// How to run a study.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Cases solved at the same time.
+    pub jobs: usize,
+    /// No progress output.
+    pub quiet: bool,
+    /// Run failed cases again (converged ones are always kept).
+    pub retry_failed: bool,
+}
+
+/// Counts at the end of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RunSummary {
+    /// Cases converged (this run or before).
+    pub converged: usize,
+    /// Cases failed.
+    pub failed: usize,
+    /// Cases already finished before this run (skipped).
+    pub skipped: usize,
+    /// Cases run now.
+    pub ran: usize,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum State {
+    Pending,
+    Running,
+    Done,
+}
+
+struct Shared {
+    state: Vec<State>,
+    records: Vec<Option<CaseRecord>>,
+    running: usize,
+    ran: usize,
+    time_spent: Duration,
+    error: Option<StoreError>,
+}
+
+fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        s.to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic".into()
+    }
+}
+
+fn format_duration(d: Duration) -> String {
+    let s = d.as_secs();
+    if s >= 3600 {
+        format!("{}h{:02}m", s / 3600, (s % 3600) / 60)
+    } else if s >= 60 {
+        format!("{}m{:02}s", s / 60, s % 60)
+    } else {
+        format!("{s}s")
+    }
+}
+
+/// Run every unfinished case of `study` into `store` with `runner`.
+pub fn run_study(
+    study: &Study,
+    store: &Store,
+    runner: &dyn CaseRunner,
+    opts: &RunOptions,
+) -> Result<RunSummary, StoreError> {
+    let cases = &study.cases;
+    let axes = varying_axes(cases);
+    let mut records: Vec<Option<CaseRecord>> =
+        cases.iter().map(|c| store.record(&c.name)).collect();
+    if opts.retry_failed {
+        for r in &mut records {
+            if r.as_ref()
+                .is_some_and(|r| r.status != CaseStatus::Converged)
+            {
+                *r = None;
+            }
+        }
+    }
+    let skipped = records.iter().filter(|r| r.is_some()).count();
+    let state = records
+        .iter()
+        .map(|r| {
+            if r.is_some() {
+                State::Done
+            } else {
+                State::Pending
+            }
+        })
+        .collect();
+    store.write_index(cases, &records, &axes)?;
+    let shared = Mutex::new(Shared {
+        state,
+        records,
+        running: 0,
+        ran: 0,
+        time_spent: Duration::ZERO,
+        error: None,
+    });
+    let wake = Condvar::new();
+    let jobs = opts.jobs.max(1);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| worker(study, store, runner, opts, &axes, &shared, &wake));
+        }
+    });
+    let sh = shared.into_inner().unwrap_or_else(|e| e.into_inner());
+    if let Some(e) = sh.error {
+        return Err(e);
+    }
+    let count = |s: CaseStatus| {
+        sh.records
+            .iter()
+            .filter(|r| r.as_ref().is_some_and(|r| r.status == s))
+            .count()
+    };
+    Ok(RunSummary {
+        converged: count(CaseStatus::Converged),
+        failed: count(CaseStatus::Failed),
+        skipped,
+        ran: sh.ran,
+    })
+}
+
+/// Pick the next case whose sources are all finished.
+fn next_ready(sh: &Shared, cases: &[Case]) -> Option<usize> {
+    (0..cases.len()).find(|&i| {
+        sh.state[i] == State::Pending
+            && cases[i].sources.iter().all(|&s| sh.state[s] == State::Done)
+    })
+}
+
+fn worker(
+    study: &Study,
+    store: &Store,
+    runner: &dyn CaseRunner,
+    opts: &RunOptions,
+    axes: &[String],
+    shared: &Mutex<Shared>,
+    wake: &Condvar,
+) {
+    let cases = &study.cases;
+    loop {
+        // Take a ready case (or stop when nothing is left).
+        let (i, source) = {
+            let mut sh = shared.lock().unwrap_or_else(|e| e.into_inner());
+            loop {
+                if sh.error.is_some() {
+                    return;
+                }
+                if let Some(i) = next_ready(&sh, cases) {
+                    sh.state[i] = State::Running;
+                    sh.running += 1;
+                    let source = cases[i].sources.iter().copied().find(|&s| {
+                        sh.records[s]
+                            .as_ref()
+                            .is_some_and(|r| r.status == CaseStatus::Converged)
+                    });
+                    break (i, source);
+                }
+                if !sh.state.contains(&State::Pending) {
+                    return;
+                }
+                sh = wake.wait(sh).unwrap_or_else(|e| e.into_inner());
+            }
+        };
+        let case = &cases[i];
+        let start = Instant::now();
+        let tmp = store.temp_dir(&case.name);
+        let outcome: Result<CaseOutcome, String> = match &tmp {
+            Err(e) => Err(e.to_string()),
+            Ok(_) if case.guess.is_continuation() && source.is_none() => Err(format!(
+                "no converged solution to continue from (candidates: {})",
+                case.sources
+                    .iter()
+                    .map(|&s| cases[s].name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+            Ok(tmp) => {
+                let src_dir = source.map(|s| store.case_dir(&cases[s].name));
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    runner.run(case, src_dir.as_deref(), tmp)
+                }))
+                .unwrap_or_else(|p| Err(format!("panic: {}", panic_text(p))))
+            }
+        };
+        let elapsed = start.elapsed();
+        let record = make_record(
+            case,
+            source.map(|s| cases[s].name.clone()),
+            outcome,
+            elapsed,
+        );
+        let finish = tmp.and_then(|tmp| store.finish(&tmp, &record));
+        let mut sh = shared.lock().unwrap_or_else(|e| e.into_inner());
+        sh.running -= 1;
+        sh.state[i] = State::Done;
+        sh.ran += 1;
+        sh.time_spent += elapsed;
+        if let Err(e) = finish {
+            sh.error = Some(e);
+        } else {
+            sh.records[i] = Some(record.clone());
+            if let Err(e) = store.write_index(cases, &sh.records, axes) {
+                sh.error = Some(e);
+            }
+        }
+        if !opts.quiet {
+            print_progress(&sh, cases.len(), opts.jobs, &record);
+        }
+        drop(sh);
+        wake.notify_all();
+    }
+}
+
+fn make_record(
+    case: &Case,
+    continued_from: Option<String>,
+    outcome: Result<CaseOutcome, String>,
+    elapsed: Duration,
+) -> CaseRecord {
+    let (status, reason, objective, iterations, metrics) = match outcome {
+        Ok(o) => (
+            if o.converged {
+                CaseStatus::Converged
+            } else {
+                CaseStatus::Failed
+            },
+            o.reason,
+            o.objective,
+            o.iterations,
+            o.metrics,
+        ),
+        Err(reason) => (CaseStatus::Failed, reason, None, None, None),
+    };
+    CaseRecord {
+        name: case.name.clone(),
+        group: case.group.clone(),
+        guess: case.guess.to_string(),
+        axes: case.axes.clone(),
+        speed: case.settings.speed,
+        status,
+        reason,
+        objective,
+        iterations,
+        time_s: elapsed.as_secs_f64(),
+        continued_from: if case.guess.is_continuation() {
+            continued_from
+        } else {
+            None
+        },
+        metrics,
+    }
+}
+
+fn print_progress(sh: &Shared, total: usize, jobs: usize, last: &CaseRecord) {
+    let done = sh.state.iter().filter(|s| **s == State::Done).count();
+    let failed = sh
+        .records
+        .iter()
+        .filter(|r| r.as_ref().is_some_and(|r| r.status == CaseStatus::Failed))
+        .count();
+    let remaining = total - done - sh.running;
+    let eta = if sh.ran > 0 {
+        let per_case = sh.time_spent / sh.ran as u32;
+        format_duration(per_case * ((remaining + sh.running) as u32) / jobs.max(1) as u32)
+    } else {
+        "?".into()
+    };
+    eprintln!(
+        "[{done}/{total} done, {failed} failed, {} running, {remaining} remaining, ~{eta} left] {}: {} {} ({:.1} s)",
+        sh.running,
+        last.name,
+        last.status.as_str(),
+        last.reason,
+        last.time_s
+    );
+}

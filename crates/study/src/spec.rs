@@ -1,0 +1,543 @@
+//! Study files: the `[study]`, `[base]` and `[grid]` tables, and their expansion into
+//! named cases, each a complete, validated [`ProblemSettings`] with one initial guess.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use stride_ocp::guess::{ContinuationKind, GuessKind};
+use stride_ocp::settings::ProblemSettings;
+use toml::Value;
+
+/// Why a study file could not be read or expanded.
+#[derive(Debug, thiserror::Error)]
+pub enum SpecError {
+    /// The file could not be read.
+    #[error("{file}: {reason}")]
+    Read {
+        /// Study file.
+        file: String,
+        /// Why.
+        reason: String,
+    },
+    /// The TOML (or a table's keys) is malformed.
+    #[error("{file}: {reason}")]
+    Parse {
+        /// Study file.
+        file: String,
+        /// What is wrong (the TOML parser names the key).
+        reason: String,
+    },
+    /// One expanded case has invalid settings.
+    #[error("{file}: case `{case}`: {reason}")]
+    Case {
+        /// Study file.
+        file: String,
+        /// Case name.
+        case: String,
+        /// What is wrong (names the key).
+        reason: String,
+    },
+    /// The grid itself is inconsistent.
+    #[error("{file}: [grid] {reason}")]
+    Grid {
+        /// Study file.
+        file: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// Solver options of a study (same meaning as `stride predict`'s `[solver]`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// Backend name (`ipm`, `ipopt`).
+    pub backend: Option<String>,
+    /// Hessian: `exact` or `limited-memory`.
+    pub hessian: Option<String>,
+    /// Convergence tolerance.
+    pub tol: Option<f64>,
+    /// Iteration limit.
+    pub max_iter: Option<usize>,
+    /// Wall-time limit per case [s].
+    pub time_limit: Option<f64>,
+}
+
+/// The `[study]` table: identity, output, parallelism, solver.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudyHeader {
+    /// Study name (used in reports).
+    pub name: String,
+    /// Output folder (relative paths are relative to the working directory).
+    pub output: PathBuf,
+    /// Cases solved at the same time.
+    #[serde(default = "one")]
+    pub jobs: usize,
+    /// Solver threads per case.
+    #[serde(default = "one")]
+    pub threads_per_case: usize,
+    /// OpenSim model file (default: the built-in subject model).
+    #[serde(default)]
+    pub model: Option<PathBuf>,
+    /// Guesses when the grid has no `guesses` axis.
+    #[serde(default = "default_guesses")]
+    pub guesses: Vec<String>,
+    /// Speed [m s⁻¹] where continuation chains start (1.33 in the paper).
+    #[serde(default = "default_anchor")]
+    pub continuation_anchor: f64,
+    /// Solver options.
+    #[serde(default)]
+    pub solver: SolverSpec,
+}
+
+fn one() -> usize {
+    1
+}
+fn default_anchor() -> f64 {
+    1.33
+}
+fn default_guesses() -> Vec<String> {
+    vec!["quasi-random".into(), "data-informed-walking".into()]
+}
+
+/// The initial guess of one case.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CaseGuess {
+    /// A guess built from the settings alone (QR, DI walking, DI running).
+    Standard(GuessKind),
+    /// A guess built from the solution of a neighbouring case.
+    Continuation(ContinuationKind),
+}
+
+impl CaseGuess {
+    /// Parse a guess name as written in study files.
+    pub fn parse(s: &str) -> Option<Self> {
+        Some(match s.trim() {
+            "quasi-random" | "qr" => Self::Standard(GuessKind::QuasiRandom),
+            "data-informed-walking" | "di-walking" => {
+                Self::Standard(GuessKind::DataInformedWalking)
+            }
+            "data-informed-running" | "di-running" => {
+                Self::Standard(GuessKind::DataInformedRunning)
+            }
+            "full-os" | "full-solution" => Self::Continuation(ContinuationKind::FullSolution),
+            "partial-os" | "partial-solution" => {
+                Self::Continuation(ContinuationKind::PartialSolution)
+            }
+            _ => return None,
+        })
+    }
+
+    /// Short tag used in case names.
+    pub fn tag(&self) -> &'static str {
+        match self {
+            Self::Standard(GuessKind::QuasiRandom) => "qr",
+            Self::Standard(GuessKind::DataInformedWalking) => "diw",
+            Self::Standard(GuessKind::DataInformedRunning) => "dir",
+            Self::Continuation(ContinuationKind::FullSolution) => "fos",
+            Self::Continuation(ContinuationKind::PartialSolution) => "pos",
+        }
+    }
+
+    /// Whether the guess needs a finished neighbouring case.
+    pub fn is_continuation(&self) -> bool {
+        matches!(self, Self::Continuation(_))
+    }
+}
+
+impl std::fmt::Display for CaseGuess {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Standard(g) => write!(f, "{g}"),
+            Self::Continuation(ContinuationKind::FullSolution) => f.write_str("full-os"),
+            Self::Continuation(ContinuationKind::PartialSolution) => f.write_str("partial-os"),
+        }
+    }
+}
+
+/// One case of a study: complete settings and one initial guess.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Case {
+    /// Stable readable name, also the folder name (e.g. `speed_1.33__hip50__qr`).
+    pub name: String,
+    /// The name without the guess tag: cases of one group differ only by their guess.
+    pub group: String,
+    /// Values of the grid axes for this case (axis name → value as written).
+    pub axes: BTreeMap<String, String>,
+    /// Complete, validated settings.
+    pub settings: ProblemSettings,
+    /// Initial guess.
+    pub guess: CaseGuess,
+    /// For continuation guesses: candidate source cases, most preferred first (the closest
+    /// speed towards the anchor in the same chain, …, then the anchor cases).
+    pub sources: Vec<usize>,
+}
+
+/// A parsed, expanded and validated study.
+#[derive(Clone, Debug)]
+pub struct Study {
+    /// The `[study]` table.
+    pub header: StudyHeader,
+    /// Every case, dependencies before dependants.
+    pub cases: Vec<Case>,
+    /// The study file's text (hashed to guard resumption).
+    pub source_text: String,
+    /// Where it was read from.
+    pub path: PathBuf,
+}
+
+/// Raw file layout (before expansion).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    study: StudyHeader,
+    #[serde(default)]
+    base: Option<toml::Table>,
+    #[serde(default)]
+    grid: Option<toml::Table>,
+}
+
+/// Read, expand and validate a study file.
+pub fn load(path: &Path) -> Result<Study, SpecError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SpecError::Read {
+        file: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    parse(&text, path)
+}
+
+/// Format a grid value for a case name (floats without trailing zeros).
+fn value_label(v: &Value) -> String {
+    match v {
+        Value::Float(f) => format!("{f}"),
+        Value::Integer(i) => format!("{i}"),
+        Value::String(s) => s.clone(),
+        Value::Boolean(b) => format!("{b}"),
+        other => other.to_string(),
+    }
+}
+
+fn sanitize(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' || c == '-' || c == '_' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}
+
+/// Deep-merge `over` into `base` (tables merge key by key, anything else replaces).
+fn merge(base: &mut toml::Table, over: &toml::Table) {
+    for (k, v) in over {
+        match (base.get_mut(k), v) {
+            (Some(Value::Table(b)), Value::Table(o)) => merge(b, o),
+            _ => {
+                base.insert(k.clone(), v.clone());
+            }
+        }
+    }
+}
+
+/// Set a dotted key (`weights.metabolic`) in a table.
+fn set_dotted(t: &mut toml::Table, key: &str, v: Value) {
+    let mut parts = key.split('.').peekable();
+    let mut cur = t;
+    while let Some(p) = parts.next() {
+        if parts.peek().is_none() {
+            cur.insert(p.to_string(), v);
+            return;
+        }
+        let entry = cur
+            .entry(p.to_string())
+            .or_insert_with(|| Value::Table(toml::Table::new()));
+        if !entry.is_table() {
+            *entry = Value::Table(toml::Table::new());
+        }
+        cur = entry.as_table_mut().expect("just made a table");
+    }
+}
+
+/// One named partial override of the settings (`[[grid.conditions]]`).
+struct Condition {
+    name: String,
+    table: toml::Table,
+}
+
+/// Parse a study from its text; `path` names the file in errors.
+pub fn parse(text: &str, path: &Path) -> Result<Study, SpecError> {
+    let file = path.display().to_string();
+    let raw: RawFile = toml::from_str(text).map_err(|e| SpecError::Parse {
+        file: file.clone(),
+        reason: e.to_string(),
+    })?;
+    let h = &raw.study;
+    let grid_err = |reason: String| SpecError::Grid {
+        file: file.clone(),
+        reason,
+    };
+    if h.jobs == 0 || h.threads_per_case == 0 {
+        return Err(SpecError::Parse {
+            file: file.clone(),
+            reason: "[study] `jobs` and `threads_per_case` must be at least 1".into(),
+        });
+    }
+    let base = raw.base.unwrap_or_default();
+    // The base alone must be valid settings (typos are reported against [base]).
+    let base_settings: ProblemSettings =
+        Value::Table(base.clone())
+            .try_into()
+            .map_err(|e: toml::de::Error| SpecError::Parse {
+                file: file.clone(),
+                reason: format!("[base]: {}", e.message()),
+            })?;
+    base_settings.validate().map_err(|e| SpecError::Parse {
+        file: file.clone(),
+        reason: format!("[base]: {e}"),
+    })?;
+    let mut grid = raw.grid.unwrap_or_default();
+    // Guess axis.
+    let guess_names: Vec<String> = match grid.remove("guesses") {
+        Some(Value::Array(a)) => a
+            .iter()
+            .map(|v| {
+                v.as_str()
+                    .map(str::to_string)
+                    .ok_or_else(|| grid_err("`guesses` must be a list of strings".into()))
+            })
+            .collect::<Result<_, _>>()?,
+        Some(_) => return Err(grid_err("`guesses` must be a list of strings".into())),
+        None => h.guesses.clone(),
+    };
+    let mut guesses = Vec::new();
+    for g in &guess_names {
+        let parsed = CaseGuess::parse(g).ok_or_else(|| {
+            grid_err(format!(
+                "unknown guess `{g}` (quasi-random, data-informed-walking, data-informed-running, full-os, partial-os)"
+            ))
+        })?;
+        if guesses.contains(&parsed) {
+            return Err(grid_err(format!("guess `{g}` listed twice")));
+        }
+        guesses.push(parsed);
+    }
+    if guesses.is_empty() {
+        return Err(grid_err("no initial guess".into()));
+    }
+    // Conditions.
+    let mut conditions: Vec<Condition> = Vec::new();
+    match grid.remove("conditions") {
+        None => {}
+        Some(Value::Array(a)) => {
+            for (i, c) in a.into_iter().enumerate() {
+                let Value::Table(mut t) = c else {
+                    return Err(grid_err(format!("conditions[{i}] must be a table")));
+                };
+                let name = match t.remove("name") {
+                    Some(Value::String(s)) if !s.is_empty() => s,
+                    _ => {
+                        return Err(grid_err(format!(
+                            "conditions[{i}] needs a non-empty string `name`"
+                        )))
+                    }
+                };
+                if conditions.iter().any(|c| c.name == name) {
+                    return Err(grid_err(format!("condition name `{name}` used twice")));
+                }
+                conditions.push(Condition { name, table: t });
+            }
+        }
+        Some(_) => return Err(grid_err("`conditions` must be an array of tables".into())),
+    }
+    // Value axes (sorted by key for stable names).
+    let mut axes: Vec<(String, Vec<Value>)> = Vec::new();
+    for (k, v) in grid {
+        let Value::Array(values) = v else {
+            return Err(grid_err(format!("axis `{k}` must be a list of values")));
+        };
+        if values.is_empty() {
+            return Err(grid_err(format!("axis `{k}` is empty")));
+        }
+        axes.push((k, values));
+    }
+    axes.sort_by(|a, b| a.0.cmp(&b.0));
+
+    // Cartesian product of axes × conditions (no condition: one unnamed).
+    let mut combos: Vec<(Vec<usize>, Option<usize>)> = vec![(vec![], None)];
+    for (_, values) in &axes {
+        combos = combos
+            .into_iter()
+            .flat_map(|(idx, c)| {
+                (0..values.len()).map(move |j| {
+                    let mut i = idx.clone();
+                    i.push(j);
+                    (i, c)
+                })
+            })
+            .collect();
+    }
+    if !conditions.is_empty() {
+        combos = combos
+            .into_iter()
+            .flat_map(|(idx, _)| (0..conditions.len()).map(move |c| (idx.clone(), Some(c))))
+            .collect();
+    }
+
+    struct Group {
+        name: String,
+        axes: BTreeMap<String, String>,
+        settings: ProblemSettings,
+    }
+    let mut groups: Vec<Group> = Vec::new();
+    for (idx, cond) in &combos {
+        let mut table = base.clone();
+        let mut parts = Vec::new();
+        let mut labels = BTreeMap::new();
+        if let Some(c) = cond {
+            merge(&mut table, &conditions[*c].table);
+            parts.push(sanitize(&conditions[*c].name));
+            labels.insert("condition".to_string(), conditions[*c].name.clone());
+        }
+        let mut axis_parts = Vec::new();
+        for ((k, values), &j) in axes.iter().zip(idx) {
+            set_dotted(&mut table, k, values[j].clone());
+            let label = value_label(&values[j]);
+            axis_parts.push(format!("{}_{}", sanitize(k), sanitize(&label)));
+            labels.insert(k.clone(), label);
+        }
+        axis_parts.extend(parts);
+        let name = if axis_parts.is_empty() {
+            "base".to_string()
+        } else {
+            axis_parts.join("__")
+        };
+        let settings: ProblemSettings =
+            Value::Table(table)
+                .try_into()
+                .map_err(|e: toml::de::Error| SpecError::Case {
+                    file: file.clone(),
+                    case: name.clone(),
+                    reason: e.message().to_string(),
+                })?;
+        settings.validate().map_err(|e| SpecError::Case {
+            file: file.clone(),
+            case: name.clone(),
+            reason: e.to_string(),
+        })?;
+        if groups.iter().any(|g| g.name == name) {
+            return Err(grid_err(format!("two cases are both named `{name}`")));
+        }
+        groups.push(Group {
+            name,
+            axes: labels,
+            settings,
+        });
+    }
+
+    // Cases: standard guesses first (so that anchors precede chains), then continuation
+    // cases ordered by distance of their speed from the anchor.
+    let anchor = h.continuation_anchor;
+    let at_anchor = |s: &ProblemSettings| (s.speed - anchor).abs() < 1e-9;
+    let mut cases: Vec<Case> = Vec::new();
+    for g in &groups {
+        for &guess in guesses.iter().filter(|g| !g.is_continuation()) {
+            cases.push(Case {
+                name: format!("{}__{}", g.name, guess.tag()),
+                group: g.name.clone(),
+                axes: g.axes.clone(),
+                settings: g.settings.clone(),
+                guess,
+                sources: vec![],
+            });
+        }
+    }
+    let continuation: Vec<CaseGuess> = guesses
+        .iter()
+        .copied()
+        .filter(|g| g.is_continuation())
+        .collect();
+    if !continuation.is_empty() {
+        if !axes.iter().any(|(k, _)| k == "speed") {
+            return Err(grid_err(
+                "continuation guesses (full-os, partial-os) need a `speed` axis".into(),
+            ));
+        }
+        if !groups.iter().any(|g| at_anchor(&g.settings)) {
+            return Err(grid_err(format!(
+                "continuation guesses need the anchor speed {anchor} m/s in the `speed` axis"
+            )));
+        }
+        // The chain key: every axis value except the speed.
+        let chain_key = |g: &Group| {
+            let mut a = g.axes.clone();
+            a.remove("speed");
+            a
+        };
+        let mut order: Vec<usize> = (0..groups.len())
+            .filter(|&i| !at_anchor(&groups[i].settings))
+            .collect();
+        order.sort_by(|&a, &b| {
+            let da = (groups[a].settings.speed - anchor).abs();
+            let db = (groups[b].settings.speed - anchor).abs();
+            da.total_cmp(&db).then(a.cmp(&b))
+        });
+        for &guess in &continuation {
+            for &gi in &order {
+                let g = &groups[gi];
+                let key = chain_key(g);
+                let v = g.settings.speed;
+                let side = (v - anchor).signum();
+                // Same chain, strictly between the anchor and v: closest to v first.
+                let mut chain: Vec<(f64, usize)> = cases
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| {
+                        c.guess == guess
+                            && chain_key_of(c) == key
+                            && (c.settings.speed - anchor).signum() == side
+                            && (c.settings.speed - anchor).abs() < (v - anchor).abs()
+                    })
+                    .map(|(i, c)| ((v - c.settings.speed).abs(), i))
+                    .collect();
+                chain.sort_by(|a, b| a.0.total_cmp(&b.0));
+                let mut sources: Vec<usize> = chain.into_iter().map(|(_, i)| i).collect();
+                sources.extend(cases.iter().enumerate().filter_map(|(i, c)| {
+                    (!c.guess.is_continuation() && at_anchor(&c.settings) && chain_key_of(c) == key)
+                        .then_some(i)
+                }));
+                cases.push(Case {
+                    name: format!("{}__{}", g.name, guess.tag()),
+                    group: g.name.clone(),
+                    axes: g.axes.clone(),
+                    settings: g.settings.clone(),
+                    guess,
+                    sources,
+                });
+            }
+        }
+    }
+    Ok(Study {
+        header: raw.study,
+        cases,
+        source_text: text.to_string(),
+        path: path.to_path_buf(),
+    })
+}
+
+fn chain_key_of(c: &Case) -> BTreeMap<String, String> {
+    let mut a = c.axes.clone();
+    a.remove("speed");
+    a
+}
+
+/// The axis names that vary across a study's cases (for the index table).
+pub fn varying_axes(cases: &[Case]) -> Vec<String> {
+    let mut keys: Vec<String> = cases.iter().flat_map(|c| c.axes.keys().cloned()).collect();
+    keys.sort();
+    keys.dedup();
+    keys
+}

@@ -1,0 +1,290 @@
+//! The output folder of a study: one folder per finished case (`cases/<name>/`, appearing
+//! atomically by renaming a temporary folder whose last file is `case.json`), the study
+//! file and its hash, and `index.csv`.
+
+use crate::spec::{Case, Study};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use stride_model::storage::write_atomic;
+
+/// File marking a finished case (its record, written last inside the case folder).
+pub const CASE_RECORD: &str = "case.json";
+/// File holding the hash of the study file an output folder was made from.
+pub const STUDY_HASH: &str = "study.hash";
+
+/// Why the output folder could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum StoreError {
+    /// A filesystem operation failed.
+    #[error("{path}: {reason}")]
+    Io {
+        /// Path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+    /// The folder was made from another study file.
+    #[error("{folder} was made from a different study file (hash {found}, this file {expected}); use another output folder or --force")]
+    OtherStudy {
+        /// Output folder.
+        folder: String,
+        /// Hash recorded in the folder.
+        found: String,
+        /// Hash of this study file.
+        expected: String,
+    },
+}
+
+pub(crate) fn io_err(path: &Path, e: impl ToString) -> StoreError {
+    StoreError::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    }
+}
+
+/// Final state of a case.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CaseStatus {
+    /// The solver converged.
+    Converged,
+    /// Solver error, not converged, panic, or no solution to continue from.
+    Failed,
+    /// Not run (yet).
+    NotRun,
+}
+
+impl CaseStatus {
+    /// Name used in tables.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::Converged => "converged",
+            Self::Failed => "failed",
+            Self::NotRun => "not run",
+        }
+    }
+}
+
+/// Gait outcome measures of a converged case (FORMULATION 11.3).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Metrics {
+    /// Cost of transport (Bhargava, basal included) [J kg⁻¹ m⁻¹].
+    pub cost_of_transport: f64,
+    /// Stride length [m].
+    pub stride_length: f64,
+    /// Stride frequency [strides s⁻¹].
+    pub stride_frequency: f64,
+    /// Step width [m].
+    pub step_width: f64,
+    /// Fraction of the cycle in double support.
+    pub double_support_fraction: f64,
+    /// Correlation of the normalised COM potential and forward kinetic energies over the
+    /// cycle (> 0: in phase, running; < 0: out of phase, walking); `None` if not computed.
+    pub energy_phase_correlation: Option<f64>,
+}
+
+/// What a case runner reports back.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CaseOutcome {
+    /// Whether the solver converged.
+    pub converged: bool,
+    /// Solver status or error text.
+    pub reason: String,
+    /// Final objective.
+    pub objective: Option<f64>,
+    /// Solver iterations.
+    pub iterations: Option<usize>,
+    /// Outcome measures (converged cases).
+    pub metrics: Option<Metrics>,
+}
+
+/// The record of a finished case (`case.json`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CaseRecord {
+    /// Case name.
+    pub name: String,
+    /// Group (name without the guess).
+    pub group: String,
+    /// Initial guess as written in study files.
+    pub guess: String,
+    /// Grid axis values.
+    pub axes: BTreeMap<String, String>,
+    /// Imposed speed [m s⁻¹].
+    pub speed: f64,
+    /// Final status.
+    pub status: CaseStatus,
+    /// Why it failed (or the solver status).
+    pub reason: String,
+    /// Final objective.
+    pub objective: Option<f64>,
+    /// Solver iterations.
+    pub iterations: Option<usize>,
+    /// Wall time of the case [s].
+    pub time_s: f64,
+    /// Case whose solution seeded a continuation guess.
+    pub continued_from: Option<String>,
+    /// Outcome measures.
+    pub metrics: Option<Metrics>,
+}
+
+/// FNV-1a 64-bit hash of bytes, as 16 hex digits (identifies a study file's text).
+pub fn fnv1a64(bytes: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// Paths of a study output folder.
+#[derive(Clone, Debug)]
+pub struct Store {
+    /// Output folder.
+    pub root: PathBuf,
+}
+
+impl Store {
+    /// Open (creating if needed) the output folder of `study`; refuse a folder made from a
+    /// different study file unless `force`; remove temporary folders left by killed runs.
+    pub fn open(root: &Path, study: &Study, force: bool) -> Result<Self, StoreError> {
+        let hash = fnv1a64(study.source_text.as_bytes());
+        let hash_file = root.join(STUDY_HASH);
+        if let Ok(found) = std::fs::read_to_string(&hash_file) {
+            let found = found.trim().to_string();
+            if found != hash && !force {
+                return Err(StoreError::OtherStudy {
+                    folder: root.display().to_string(),
+                    found,
+                    expected: hash,
+                });
+            }
+        }
+        let store = Self {
+            root: root.to_path_buf(),
+        };
+        let cases = store.cases_dir();
+        std::fs::create_dir_all(&cases).map_err(|e| io_err(&cases, e))?;
+        write_atomic(&hash_file, format!("{hash}\n").as_bytes())
+            .map_err(|e| io_err(&hash_file, e))?;
+        let copy = root.join("study.toml");
+        write_atomic(&copy, study.source_text.as_bytes()).map_err(|e| io_err(&copy, e))?;
+        // Temporary folders of cases in flight when a previous run was killed.
+        if let Ok(rd) = std::fs::read_dir(&cases) {
+            for e in rd.flatten() {
+                let n = e.file_name().to_string_lossy().to_string();
+                if n.starts_with(".tmp-") || (n.starts_with('.') && n.contains(".partial-")) {
+                    let _ = std::fs::remove_dir_all(e.path());
+                }
+            }
+        }
+        Ok(store)
+    }
+
+    /// Folder of finished cases.
+    pub fn cases_dir(&self) -> PathBuf {
+        self.root.join("cases")
+    }
+
+    /// Final folder of a case.
+    pub fn case_dir(&self, name: &str) -> PathBuf {
+        self.cases_dir().join(name)
+    }
+
+    /// A fresh temporary folder for a case in flight.
+    pub fn temp_dir(&self, name: &str) -> Result<PathBuf, StoreError> {
+        let p = self
+            .cases_dir()
+            .join(format!(".tmp-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).map_err(|e| io_err(&p, e))?;
+        Ok(p)
+    }
+
+    /// The record of a finished case, if any.
+    pub fn record(&self, name: &str) -> Option<CaseRecord> {
+        let p = self.case_dir(name).join(CASE_RECORD);
+        let text = std::fs::read_to_string(p).ok()?;
+        serde_json::from_str(&text).ok()
+    }
+
+    /// Write the record into `tmp` (last) and move `tmp` to the case's final folder.
+    pub fn finish(&self, tmp: &Path, record: &CaseRecord) -> Result<(), StoreError> {
+        let p = tmp.join(CASE_RECORD);
+        let json = serde_json::to_string_pretty(record).map_err(|e| io_err(&p, e))?;
+        write_atomic(&p, json.as_bytes()).map_err(|e| io_err(&p, e))?;
+        let dst = self.case_dir(&record.name);
+        if dst.exists() {
+            std::fs::remove_dir_all(&dst).map_err(|e| io_err(&dst, e))?;
+        }
+        std::fs::rename(tmp, &dst).map_err(|e| io_err(&dst, e))
+    }
+
+    /// Rewrite `index.csv` atomically: one row per case, finished or not.
+    pub fn write_index(
+        &self,
+        cases: &[Case],
+        records: &[Option<CaseRecord>],
+        axes: &[String],
+    ) -> Result<(), StoreError> {
+        let p = self.root.join("index.csv");
+        write_atomic(&p, index_csv(cases, records, axes).as_bytes()).map_err(|e| io_err(&p, e))
+    }
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+fn opt<T: std::fmt::Display>(v: Option<T>) -> String {
+    v.map(|x| x.to_string()).unwrap_or_default()
+}
+
+/// The index table: name, varying axes, guess, status, reason, objective, iterations,
+/// time, cost of transport, stride length, stride frequency, step width, double support,
+/// energy phase correlation.
+pub fn index_csv(cases: &[Case], records: &[Option<CaseRecord>], axes: &[String]) -> String {
+    let mut s = String::from("name");
+    for a in axes {
+        s.push(',');
+        s.push_str(&csv_field(a));
+    }
+    s.push_str(",guess,status,reason,objective,iterations,time_s,cost_of_transport,stride_length_m,stride_frequency_per_s,step_width_m,double_support_fraction,energy_phase_correlation,continued_from\n");
+    for (c, r) in cases.iter().zip(records) {
+        s.push_str(&csv_field(&c.name));
+        for a in axes {
+            s.push(',');
+            s.push_str(&csv_field(c.axes.get(a).map(String::as_str).unwrap_or("")));
+        }
+        let _ = write!(s, ",{}", c.guess);
+        match r {
+            None => s.push_str(",not run,,,,,,,,,,,\n"),
+            Some(r) => {
+                let m = r.metrics.as_ref();
+                let _ = writeln!(
+                    s,
+                    ",{},{},{},{},{:.3},{},{},{},{},{},{},{}",
+                    r.status.as_str(),
+                    csv_field(&r.reason),
+                    opt(r.objective),
+                    opt(r.iterations),
+                    r.time_s,
+                    opt(m.map(|m| m.cost_of_transport)),
+                    opt(m.map(|m| m.stride_length)),
+                    opt(m.map(|m| m.stride_frequency)),
+                    opt(m.map(|m| m.step_width)),
+                    opt(m.map(|m| m.double_support_fraction)),
+                    opt(m.and_then(|m| m.energy_phase_correlation)),
+                    csv_field(r.continued_from.as_deref().unwrap_or("")),
+                );
+            }
+        }
+    }
+    s
+}
