@@ -8,6 +8,7 @@
 pub mod bounds;
 pub mod data;
 pub mod experimental;
+pub mod figures;
 pub mod gait;
 pub mod guess;
 pub mod layout;

@@ -3,9 +3,10 @@
 
 use crate::data;
 use crate::experimental::Kinematics;
+use crate::figures::{self, CycleTables};
 use crate::guess::GuessKind;
 use crate::node::NodeModel;
-use crate::problem::{GaitProblem, ProblemError, GRAVITY};
+use crate::problem::{GaitProblem, ProblemError};
 use crate::settings::{CycleKind, ProblemSettings};
 use crate::tape_node::TapeNode;
 use crate::trajectory::{Outcomes, Trajectory};
@@ -369,47 +370,24 @@ fn write_cycle(
     };
     let p = dir.join("grf.mot");
     grf.write(&p).map_err(|e| write_err(&p, e))?;
-    // Tables.
-    let names: Vec<String> = g.coordinates.iter().map(|c| c.name.clone()).collect();
-    let muscles: Vec<String> = g
-        .muscles
-        .iter()
-        .map(|&m| model.muscles[m].name.clone())
-        .collect();
-    let angles: Vec<Vec<f64>> = cycle
-        .q
-        .iter()
-        .map(|q| q.iter().enumerate().map(|(i, &v)| to_user(i, v)).collect())
-        .collect();
-    let powers: Vec<Vec<f64>> = cycle
-        .torque
-        .iter()
-        .zip(&cycle.v)
-        .map(|(t, v)| t.iter().zip(v).map(|(a, b)| a * b).collect())
-        .collect();
-    let bw = problem.body_mass * GRAVITY;
-    let grf_bw: Vec<Vec<f64>> = cycle
-        .grf_right
-        .iter()
-        .zip(&cycle.grf_left)
-        .map(|(r, l)| r.iter().chain(l).map(|f| 100.0 * f / bw).collect())
-        .collect();
-    let grf_labels: Vec<String> = ["right", "left"]
-        .iter()
-        .flat_map(|s| ["x", "y", "z"].map(|k| format!("{s}_{k}_pct_bw")))
-        .collect();
+    // Tables (CSV) and figures, from the same post-processed quantities.
+    let t = CycleTables::new(problem, cycle);
     let _ = node;
     for (file, labels, rows) in [
-        ("joint_angles.csv", &names, &angles),
-        ("joint_torques.csv", &names, &cycle.torque),
-        ("joint_powers.csv", &names, &powers),
-        ("activations.csv", &muscles, &cycle.activation),
-        ("excitations.csv", &muscles, &problem.excitations(cycle)),
-        ("grf.csv", &grf_labels, &grf_bw),
+        ("joint_angles.csv", &t.coordinates, &t.angles),
+        ("joint_torques.csv", &t.coordinates, &t.torques),
+        ("joint_powers.csv", &t.coordinates, &t.powers),
+        ("activations.csv", &t.muscles, &t.activations),
+        ("excitations.csv", &t.muscles, &t.excitations),
+        ("grf.csv", &t.grf_labels, &t.grf_bw),
     ] {
         let p = dir.join(file);
-        write_atomic(&p, csv(labels, &cycle.time, rows).as_bytes())
-            .map_err(|e| write_err(&p, e))?;
+        write_atomic(&p, csv(labels, &t.time, rows).as_bytes()).map_err(|e| write_err(&p, e))?;
+    }
+    let figures = figures::gait_figures(&t, &data::walking_reference());
+    for (file, bytes) in figures::render_files(&figures).map_err(|e| write_err(dir, e))? {
+        let p = dir.join(file);
+        write_atomic(&p, &bytes).map_err(|e| write_err(&p, e))?;
     }
     Ok(())
 }

@@ -225,6 +225,51 @@ fn write_panel(out: &mut String, fig: &Figure, index: usize, p: &Panel) {
     out.push_str("</g>\n");
 }
 
+/// Top-left corner of the legend box of size `w × h`: the corner of the plot area (top
+/// right, top left, bottom right, bottom left, in that order of preference) whose box covers
+/// the fewest line vertices and band samples.
+pub fn legend_corner(a: &PlotArea, p: &Panel, w: f64, h: f64) -> (f64, f64) {
+    let m = 4.0;
+    let corners = [
+        (a.left + a.width - w - m, a.top + m),
+        (a.left + m, a.top + m),
+        (a.left + a.width - w - m, a.top + a.height - h - m),
+        (a.left + m, a.top + a.height - h - m),
+    ];
+    let cost = |&(x, y): &(f64, f64)| -> usize {
+        let inside_x = |px: f64| px >= x && px <= x + w;
+        let mut n = 0;
+        for s in &p.series {
+            for (&xv, &yv) in s.x.iter().zip(&s.y) {
+                let (px, py) = a.map(xv, yv);
+                if inside_x(px) && py >= y && py <= y + h {
+                    n += 1;
+                }
+            }
+        }
+        for b in &p.bands {
+            for (&xv, (&lo, &hi)) in b.x.iter().zip(b.lower.iter().zip(&b.upper)) {
+                let (px, py_hi) = a.map(xv, hi);
+                let (_, py_lo) = a.map(xv, lo);
+                if inside_x(px) && py_hi <= y + h && py_lo >= y {
+                    n += 1;
+                }
+            }
+        }
+        n
+    };
+    let mut best = corners[0];
+    let mut best_cost = usize::MAX;
+    for c in &corners {
+        let k = cost(c);
+        if k < best_cost {
+            best = *c;
+            best_cost = k;
+        }
+    }
+    best
+}
+
 fn write_legend(out: &mut String, a: &PlotArea, p: &Panel, fs: f64) {
     let entries: Vec<(&str, Option<&crate::figure::Series>, Option<Color>)> = p
         .bands
@@ -248,8 +293,7 @@ fn write_legend(out: &mut String, a: &PlotArea, p: &Panel, fs: f64) {
         .unwrap_or(0) as f64;
     let w = 6.0 + sample + 4.0 + CHAR_WIDTH * fs * chars + 6.0;
     let h = 4.0 + row * entries.len() as f64 + 2.0;
-    let x = a.left + a.width - w - 4.0;
-    let y = a.top + 4.0;
+    let (x, y) = legend_corner(a, p, w, h);
     let _ = writeln!(
         out,
         "<rect x=\"{x:.2}\" y=\"{y:.2}\" width=\"{w:.2}\" height=\"{h:.2}\" fill=\"#ffffff\" fill-opacity=\"0.85\" stroke=\"#bbbbbb\" stroke-width=\"0.6\"/>"

@@ -192,3 +192,26 @@ fn auto_limits_use_nice_ticks_around_the_data() {
     assert_eq!(a.x.values, vec![0.0, 20.0, 40.0, 60.0, 80.0, 100.0]);
     assert_eq!((a.y.min, a.y.max), (-5.0, 15.0));
 }
+
+#[test]
+fn legend_goes_to_the_emptiest_corner() {
+    use stride_plot::svg::legend_corner;
+    // Data fill the top half of the plot area: the legend moves to the bottom.
+    let x: Vec<f64> = (0..=100).map(|i| i as f64 / 100.0).collect();
+    let fig = Figure::new(400, 300, 1, 1).panel(
+        Panel::new("", "", "")
+            .x_limits(0.0, 1.0)
+            .y_limits(0.0, 1.0)
+            .band(Band::new(
+                x.clone(),
+                vec![0.6; 101],
+                vec![1.0; 101],
+                Color::GREY,
+            ))
+            .line(Series::new(x, vec![0.8; 101], Color::BLUE).label("line"))
+            .legend(true),
+    );
+    let a = &fig.plot_areas()[0];
+    let (_, y) = legend_corner(a, &fig.panels[0], 80.0, 20.0);
+    assert!(y > a.top + 0.5 * a.height, "legend at y = {y}");
+}

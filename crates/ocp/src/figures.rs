@@ -1,0 +1,714 @@
+//! Figures of a predicted gait cycle against the experimental walking data (the paper's
+//! Figure 1): joint angles; joint torques, powers and ground reaction forces; muscle
+//! activations with EMG envelopes. Also the tables of a cycle in the units of the result
+//! files, shared by the CSV writer and the figures.
+//!
+//! Conventions (prediction and experiment alike): right leg, 0–100 % of the gait cycle from
+//! right heel strike; angles in degrees (OpenSim coordinate signs, e.g. knee flexion
+//! negative); torques in N m kg⁻¹ and powers in W kg⁻¹ (the experimental N m and W are
+//! divided by the subject's 62 kg, the prediction's by the model's body mass); ground
+//! reaction forces in % body weight in the ground frame (x forward, y up, z right).
+//! Experiment: mean ± 2 SD band. EMG: the mean envelope and its ± 2 SD band are multiplied
+//! by one factor per muscle so that the mean's peak equals the peak predicted activation
+//! (the paper scales each trial to that peak; only the mean and SD over trials are shipped).
+
+use crate::data::WalkingReference;
+use crate::problem::{GaitProblem, GRAVITY};
+use crate::trajectory::Trajectory;
+use stride_model::MotionType;
+use stride_plot::{Band, Color, Figure, Panel, PlotError, Series};
+
+/// Body mass of the experimental subject [kg] (subject1 of Falisse et al. 2019): divides the
+/// experimental torques and powers to N m kg⁻¹ and W kg⁻¹.
+pub const SUBJECT_MASS: f64 = 62.0;
+/// Pixels per figure unit of the PNG files.
+pub const PNG_SCALE: f32 = 2.0;
+/// Number of standard deviations on each side of the experimental mean in the bands.
+pub const BAND_SD: f64 = 2.0;
+/// Colour of the prediction lines.
+pub const PREDICTION_COLOR: Color = Color::BLUE;
+
+/// Tables of a gait cycle in the units of the result files: one row per sample.
+#[derive(Clone, Debug, Default)]
+pub struct CycleTables {
+    /// Sample times from right heel strike [s].
+    pub time: Vec<f64>,
+    /// Body mass of the model [kg].
+    pub body_mass: f64,
+    /// Coordinate names, problem order.
+    pub coordinates: Vec<String>,
+    /// Coordinates [deg for rotations, m for translations].
+    pub angles: Vec<Vec<f64>>,
+    /// Inverse-dynamics generalised forces [N m or N].
+    pub torques: Vec<Vec<f64>>,
+    /// Joint powers torque × speed [W].
+    pub powers: Vec<Vec<f64>>,
+    /// Muscle names, problem order.
+    pub muscles: Vec<String>,
+    /// Muscle activations [0–1].
+    pub activations: Vec<Vec<f64>>,
+    /// Muscle excitations [0–1].
+    pub excitations: Vec<Vec<f64>>,
+    /// Labels of the ground reaction force columns (right x, y, z then left x, y, z).
+    pub grf_labels: Vec<String>,
+    /// Ground reaction forces [% body weight], columns as `grf_labels`.
+    pub grf_bw: Vec<Vec<f64>>,
+}
+
+impl CycleTables {
+    /// Tables of the reconstructed gait cycle `cycle` of `problem`.
+    pub fn new(problem: &GaitProblem, cycle: &Trajectory) -> Self {
+        let g = &problem.gait;
+        let to_user = |i: usize, v: f64| {
+            if g.coordinates[i].motion_type == MotionType::Rotational {
+                v.to_degrees()
+            } else {
+                v
+            }
+        };
+        let angles = cycle
+            .q
+            .iter()
+            .map(|q| q.iter().enumerate().map(|(i, &v)| to_user(i, v)).collect())
+            .collect();
+        let powers = cycle
+            .torque
+            .iter()
+            .zip(&cycle.v)
+            .map(|(t, v)| t.iter().zip(v).map(|(a, b)| a * b).collect())
+            .collect();
+        let bw = problem.body_mass * GRAVITY;
+        let grf_bw = cycle
+            .grf_right
+            .iter()
+            .zip(&cycle.grf_left)
+            .map(|(r, l)| r.iter().chain(l).map(|f| 100.0 * f / bw).collect())
+            .collect();
+        Self {
+            time: cycle.time.clone(),
+            body_mass: problem.body_mass,
+            coordinates: g.coordinates.iter().map(|c| c.name.clone()).collect(),
+            angles,
+            torques: cycle.torque.clone(),
+            powers,
+            muscles: g
+                .muscles
+                .iter()
+                .map(|&m| problem.model.muscles[m].name.clone())
+                .collect(),
+            activations: cycle.activation.clone(),
+            excitations: problem.excitations(cycle),
+            grf_labels: ["right", "left"]
+                .iter()
+                .flat_map(|s| ["x", "y", "z"].map(|k| format!("{s}_{k}_pct_bw")))
+                .collect(),
+            grf_bw,
+        }
+    }
+
+    /// Percent of the gait cycle of each sample, plus 100 % (the periodic repetition of the
+    /// first sample) at the end: `100·i/n` for i = 0..=n.
+    pub fn percent_closed(&self) -> Vec<f64> {
+        let n = self.time.len();
+        (0..=n)
+            .map(|i| 100.0 * i as f64 / n.max(1) as f64)
+            .collect()
+    }
+
+    /// Column `col` of `rows` times `factor`, closed periodically (first value repeated at
+    /// the end); NaN where a row is too short.
+    fn column(rows: &[Vec<f64>], col: usize, factor: f64) -> Vec<f64> {
+        let mut v: Vec<f64> = rows
+            .iter()
+            .map(|r| r.get(col).map_or(f64::NAN, |x| x * factor))
+            .collect();
+        if let Some(&first) = v.first() {
+            v.push(first);
+        }
+        v
+    }
+
+    /// Index of the right-side coordinate of reference channel `channel` (`hip_flexion` →
+    /// `hip_flexion_r`; whole-body coordinates by their own name).
+    pub fn coordinate_index(&self, channel: &str) -> Option<usize> {
+        let right = format!("{channel}_r");
+        self.coordinates
+            .iter()
+            .position(|c| *c == right)
+            .or_else(|| self.coordinates.iter().position(|c| c == channel))
+    }
+}
+
+/// Why the figures could not be produced.
+#[derive(Debug, thiserror::Error)]
+pub enum FigureError {
+    /// Building or rendering a figure failed.
+    #[error("figure {name}: {source}")]
+    Plot {
+        /// Figure name.
+        name: String,
+        /// Cause.
+        source: PlotError,
+    },
+}
+
+/// One figure and the base name of its files.
+#[derive(Clone, Debug)]
+pub struct NamedFigure {
+    /// File base name (`figure_kinematics`, …).
+    pub name: &'static str,
+    /// The figure.
+    pub figure: Figure,
+}
+
+/// Quantity of a reference channel and how a panel shows it.
+struct PanelSpec {
+    /// Panel title.
+    title: &'static str,
+    /// Reference quantity (`joint_angles`, …).
+    quantity: &'static str,
+    /// Reference channel.
+    channel: &'static str,
+    /// y-axis label with unit.
+    unit: &'static str,
+}
+
+const fn spec(
+    title: &'static str,
+    quantity: &'static str,
+    channel: &'static str,
+    unit: &'static str,
+) -> PanelSpec {
+    PanelSpec {
+        title,
+        quantity,
+        channel,
+        unit,
+    }
+}
+
+const DEG: &str = "angle [deg]";
+const NMKG: &str = "torque [N m/kg]";
+const WKG: &str = "power [W/kg]";
+const BW: &str = "force [% BW]";
+
+/// Joint-angle panels (right leg and trunk).
+const KINEMATICS: [PanelSpec; 12] = [
+    spec("Pelvis tilt", "joint_angles", "pelvis_tilt", DEG),
+    spec("Pelvis list", "joint_angles", "pelvis_list", DEG),
+    spec("Pelvis rotation", "joint_angles", "pelvis_rotation", DEG),
+    spec("Hip flexion", "joint_angles", "hip_flexion", DEG),
+    spec("Hip adduction", "joint_angles", "hip_adduction", DEG),
+    spec("Hip rotation", "joint_angles", "hip_rotation", DEG),
+    spec(
+        "Knee angle (flexion < 0)",
+        "joint_angles",
+        "knee_angle",
+        DEG,
+    ),
+    spec(
+        "Ankle angle (dorsiflexion > 0)",
+        "joint_angles",
+        "ankle_angle",
+        DEG,
+    ),
+    spec("Subtalar angle", "joint_angles", "subtalar_angle", DEG),
+    spec("Lumbar extension", "joint_angles", "lumbar_extension", DEG),
+    spec("Lumbar bending", "joint_angles", "lumbar_bending", DEG),
+    spec("Lumbar rotation", "joint_angles", "lumbar_rotation", DEG),
+];
+
+/// Torque, power and ground-reaction-force panels.
+const KINETICS: [PanelSpec; 12] = [
+    spec("Hip flexion torque", "joint_torques", "hip_flexion", NMKG),
+    spec(
+        "Hip adduction torque",
+        "joint_torques",
+        "hip_adduction",
+        NMKG,
+    ),
+    spec("Hip rotation torque", "joint_torques", "hip_rotation", NMKG),
+    spec("Knee torque", "joint_torques", "knee_angle", NMKG),
+    spec("Ankle torque", "joint_torques", "ankle_angle", NMKG),
+    spec("Subtalar torque", "joint_torques", "subtalar_angle", NMKG),
+    spec("Hip flexion power", "joint_powers", "hip_flexion", WKG),
+    spec("Knee power", "joint_powers", "knee_angle", WKG),
+    spec("Ankle power", "joint_powers", "ankle_angle", WKG),
+    spec("GRF fore-aft (x)", "grf", "fore_aft", BW),
+    spec("GRF vertical (y)", "grf", "vertical", BW),
+    spec("GRF lateral (z)", "grf", "lateral", BW),
+];
+
+/// Activation panels: (title, model muscle, EMG channel or "" when the paper shows none).
+/// The channels are those of the reference's `emg_channel_per_muscle.csv`.
+const MUSCLES: [(&str, &str, &str); 16] = [
+    ("Gluteus medius", "glut_med1_r", "gluteus_medialis"),
+    ("Gluteus maximus", "glut_max1_r", ""),
+    ("Iliacus", "iliacus_r", ""),
+    ("Adductor longus", "add_long_r", "adductor_longus"),
+    ("Tensor fasciae latae", "tfl_r", "tensor_fasciae_latae"),
+    ("Rectus femoris", "rect_fem_r", "rectus_femoris"),
+    ("Vastus lateralis", "vas_lat_r", "vastus_lateralis"),
+    ("Vastus medialis", "vas_med_r", "vastus_medialis"),
+    ("Biceps femoris LH", "bifemlh_r", "hamstrings_lateralis"),
+    ("Semitendinosus", "semiten_r", "hamstrings_medialis"),
+    ("Gastrocnemius med.", "med_gas_r", "gastrocnemius_medialis"),
+    ("Gastrocnemius lat.", "lat_gas_r", "gastrocnemius_lateralis"),
+    ("Soleus", "soleus_r", "soleus"),
+    ("Tibialis anterior", "tib_ant_r", "tibialis_anterior"),
+    ("Peroneus longus", "per_long_r", "peroneus_longus"),
+    ("Peroneus brevis", "per_brev_r", "peroneus_brevis"),
+];
+
+const X_LABEL: &str = "gait cycle [%]";
+
+/// Percent of the gait cycle of the reference samples: (s − 1)/99 × 100 for s = 1..=n.
+fn reference_percent(n: usize) -> Vec<f64> {
+    let d = (n.max(2) - 1) as f64;
+    (0..n).map(|i| 100.0 * i as f64 / d).collect()
+}
+
+/// Factor that converts a reference channel in `unit` to the figure's unit.
+fn reference_factor(unit: &str) -> f64 {
+    match unit {
+        "Nm" | "W" | "N" => 1.0 / SUBJECT_MASS,
+        _ => 1.0,
+    }
+}
+
+/// Experimental band of a channel: mean ± BAND_SD·SD times `factor`.
+fn reference_band(
+    reference: &WalkingReference,
+    quantity: &str,
+    channel: &str,
+    factor: f64,
+    label: &str,
+) -> Option<Band> {
+    let c = reference.quantities.get(quantity)?.get(channel)?;
+    if c.mean.is_empty() || c.mean.len() != c.std.len() {
+        return None;
+    }
+    let mean: Vec<f64> = c.mean.iter().map(|v| v * factor).collect();
+    let sd: Vec<f64> = c.std.iter().map(|v| v * factor.abs()).collect();
+    Some(
+        Band::mean_sd(
+            reference_percent(mean.len()),
+            &mean,
+            &sd,
+            BAND_SD,
+            Color::GREY.with_alpha(0.4),
+        )
+        .label(label),
+    )
+}
+
+fn prediction(x: &[f64], y: Vec<f64>) -> Series {
+    Series::new(x.to_vec(), y, PREDICTION_COLOR)
+        .width(1.8)
+        .label("prediction")
+}
+
+fn base_panel(title: &str, unit: &str) -> Panel {
+    Panel::new(title, X_LABEL, unit)
+        .x_limits(0.0, 100.0)
+        .zero_line(true)
+}
+
+/// Panels of `specs` with the prediction's column of each channel.
+fn spec_panels(t: &CycleTables, reference: &WalkingReference, specs: &[PanelSpec]) -> Vec<Panel> {
+    let x = t.percent_closed();
+    let per_kg = 1.0 / t.body_mass;
+    specs
+        .iter()
+        .map(|s| {
+            let (rows, col, factor) = match s.quantity {
+                "grf" => {
+                    let col = match s.channel {
+                        "fore_aft" => 0,
+                        "vertical" => 1,
+                        _ => 2,
+                    };
+                    (&t.grf_bw, Some(col), 1.0)
+                }
+                "joint_torques" => (&t.torques, t.coordinate_index(s.channel), per_kg),
+                "joint_powers" => (&t.powers, t.coordinate_index(s.channel), per_kg),
+                _ => (&t.angles, t.coordinate_index(s.channel), 1.0),
+            };
+            let mut p = base_panel(s.title, s.unit);
+            let unit = reference
+                .quantities
+                .get(s.quantity)
+                .and_then(|q| q.get(s.channel))
+                .map(|c| c.unit.clone())
+                .unwrap_or_default();
+            if let Some(b) = reference_band(
+                reference,
+                s.quantity,
+                s.channel,
+                reference_factor(&unit),
+                "experiment (mean ± 2 SD)",
+            ) {
+                p = p.band(b);
+            }
+            if let Some(col) = col {
+                p = p.line(prediction(&x, CycleTables::column(rows, col, factor)));
+            }
+            p
+        })
+        .collect()
+}
+
+/// Activation panels with EMG scaled to the peak predicted activation.
+fn activation_panels(t: &CycleTables, reference: &WalkingReference) -> Vec<Panel> {
+    let x = t.percent_closed();
+    MUSCLES
+        .iter()
+        .filter_map(|&(title, muscle, channel)| {
+            let m = t.muscles.iter().position(|n| n == muscle)?;
+            let a = CycleTables::column(&t.activations, m, 1.0);
+            let peak_a = a
+                .iter()
+                .copied()
+                .filter(|v| v.is_finite())
+                .fold(0.0, f64::max);
+            let mut p = base_panel(title, "activation [-]");
+            let emg = reference.quantities.get("emg").and_then(|q| q.get(channel));
+            if let Some(c) = emg {
+                let peak_e = c
+                    .mean
+                    .iter()
+                    .copied()
+                    .filter(|v| v.is_finite())
+                    .fold(0.0, f64::max);
+                if peak_e > 0.0 && peak_a > 0.0 {
+                    if let Some(b) = reference_band(
+                        reference,
+                        "emg",
+                        channel,
+                        peak_a / peak_e,
+                        "EMG scaled to peak activation (mean ± 2 SD)",
+                    ) {
+                        p = p.band(b);
+                    }
+                }
+            }
+            Some(p.line(prediction(&x, a)))
+        })
+        .collect()
+}
+
+/// Figure of `panels` in a grid with `cols` columns, the legend in the first panel.
+fn grid(title: &str, mut panels: Vec<Panel>, cols: usize, cell: (u32, u32)) -> Figure {
+    if let Some(p) = panels.first_mut() {
+        p.legend = true;
+    }
+    let rows = panels.len().div_ceil(cols).max(1);
+    let mut f =
+        Figure::new(cell.0 * cols as u32, cell.1 * rows as u32 + 30, rows, cols).title(title);
+    f.panels = panels;
+    f
+}
+
+/// The figures of a predicted gait cycle against `reference`: kinematics, kinetics
+/// (torques, powers, GRF) and muscle activations.
+pub fn gait_figures(t: &CycleTables, reference: &WalkingReference) -> Vec<NamedFigure> {
+    let cell = (300, 220);
+    vec![
+        NamedFigure {
+            name: "figure_kinematics",
+            figure: grid(
+                "Joint angles, right leg: prediction vs experiment",
+                spec_panels(t, reference, &KINEMATICS),
+                3,
+                cell,
+            ),
+        },
+        NamedFigure {
+            name: "figure_kinetics",
+            figure: grid(
+                "Joint torques, powers and ground reaction forces, right leg",
+                spec_panels(t, reference, &KINETICS),
+                3,
+                cell,
+            ),
+        },
+        NamedFigure {
+            name: "figure_activations",
+            figure: grid(
+                "Muscle activations, right leg (EMG scaled to the peak activation)",
+                activation_panels(t, reference),
+                4,
+                cell,
+            ),
+        },
+    ]
+}
+
+/// File names and bytes (`<name>.svg` and `<name>.png`) of every figure.
+pub fn render_files(figures: &[NamedFigure]) -> Result<Vec<(String, Vec<u8>)>, FigureError> {
+    let mut out = Vec::with_capacity(2 * figures.len());
+    for f in figures {
+        let err = |source| FigureError::Plot {
+            name: f.name.to_string(),
+            source,
+        };
+        let svg = f.figure.to_svg().map_err(err)?;
+        let png = stride_plot::png::svg_to_png(&svg, PNG_SCALE).map_err(err)?;
+        out.push((format!("{}.svg", f.name), svg.into_bytes()));
+        out.push((format!("{}.png", f.name), png));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data;
+    use std::path::Path;
+
+    /// The reference data: the shipped one when it has channels, else imported from the
+    /// shared reference folder; `None` when neither is available.
+    fn reference() -> Option<WalkingReference> {
+        static REFERENCE: std::sync::OnceLock<Option<WalkingReference>> =
+            std::sync::OnceLock::new();
+        REFERENCE.get_or_init(load_reference).clone()
+    }
+
+    fn load_reference() -> Option<WalkingReference> {
+        let shipped = data::walking_reference();
+        if !shipped.quantities.is_empty() {
+            return Some(shipped);
+        }
+        let shared = Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../../shared/reference"
+        ));
+        if !shared.exists() {
+            eprintln!("skipping: shipped reference is empty and {shared:?} is absent");
+            return None;
+        }
+        let dir = std::env::temp_dir().join(format!("stride-figures-ref-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        data::import_reference(shared, &dir).unwrap();
+        let text = std::fs::read_to_string(dir.join("experimental_walking.json")).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        Some(serde_json::from_str(&text).unwrap())
+    }
+
+    /// A "prediction" equal to the experimental means, in the tables' units (N m, W, % BW),
+    /// for a 62 kg model: the prediction line must then run through the band centre.
+    fn tables_from_reference(r: &WalkingReference) -> CycleTables {
+        let n = 100;
+        let names: Vec<String> = r.quantities["joint_angles"].keys().cloned().collect();
+        let rows = |q: &str| -> Vec<Vec<f64>> {
+            (0..n)
+                .map(|i| names.iter().map(|c| r.quantities[q][c].mean[i]).collect())
+                .collect()
+        };
+        let grf = &r.quantities["grf"];
+        let muscles: Vec<String> = MUSCLES.iter().map(|m| m.1.to_string()).collect();
+        CycleTables {
+            time: (0..n).map(|i| i as f64 * 0.0104).collect(),
+            body_mass: SUBJECT_MASS,
+            coordinates: names.iter().map(|c| format!("{c}_r")).collect(),
+            angles: rows("joint_angles"),
+            torques: rows("joint_torques"),
+            powers: rows("joint_powers"),
+            muscles: muscles.clone(),
+            activations: (0..n)
+                .map(|i| {
+                    (0..muscles.len())
+                        .map(|m| 0.1 + 0.5 * ((i + 7 * m) as f64 / 10.0).sin().abs())
+                        .collect()
+                })
+                .collect(),
+            excitations: Vec::new(),
+            grf_labels: Vec::new(),
+            grf_bw: (0..n)
+                .map(|i| {
+                    ["fore_aft", "vertical", "lateral"]
+                        .iter()
+                        .map(|c| grf[*c].mean[i])
+                        .chain([0.0; 3])
+                        .collect()
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn every_panel_has_prediction_and_experiment_in_matching_units() {
+        let Some(r) = reference() else { return };
+        let t = tables_from_reference(&r);
+        let figs = gait_figures(&t, &r);
+        assert_eq!(figs.len(), 3);
+        for f in &figs {
+            assert!(!f.figure.panels.is_empty(), "{}", f.name);
+            f.figure.validate().unwrap();
+            for p in &f.figure.panels {
+                assert!(p.has_data(), "{}: {}", f.name, p.title);
+                assert_eq!(p.series.len(), 1, "{}: {}", f.name, p.title);
+                let has_emg = MUSCLES.iter().any(|m| m.0 == p.title && !m.2.is_empty());
+                if f.name != "figure_activations" || has_emg {
+                    assert_eq!(p.bands.len(), 1, "{}: {} has no band", f.name, p.title);
+                }
+                if f.name == "figure_activations" {
+                    // The scaled EMG mean peaks at the peak activation.
+                    if let Some(b) = p.bands.first() {
+                        let centre = b
+                            .lower
+                            .iter()
+                            .zip(&b.upper)
+                            .map(|(l, u)| 0.5 * (l + u))
+                            .fold(0.0, f64::max);
+                        let peak = p.series[0].y.iter().copied().fold(0.0, f64::max);
+                        assert!((centre - peak).abs() < 1e-9, "{}", p.title);
+                    }
+                    continue;
+                }
+                // Same units: the prediction (the reference mean) is the band centre.
+                let (s, b) = (&p.series[0], &p.bands[0]);
+                for i in 0..100 {
+                    let centre = 0.5 * (b.lower[i] + b.upper[i]);
+                    assert!(
+                        (s.y[i] - centre).abs() < 1e-9 * (1.0 + centre.abs()),
+                        "{}: {} sample {i}: {} vs {centre}",
+                        f.name,
+                        p.title,
+                        s.y[i]
+                    );
+                }
+                // Closed cycle: 0..=100 %.
+                assert_eq!(s.x.first(), Some(&0.0));
+                assert_eq!(s.x.last(), Some(&100.0));
+            }
+        }
+        // Per-kg units: peak ankle plantarflexion torque of walking ≈ 1.5 N m/kg.
+        let ankle = &figs[1].figure.panels[4];
+        let min = ankle.series[0].y.iter().copied().fold(0.0, f64::min);
+        assert!(min < -1.2 && min > -1.8, "ankle torque {min} N m/kg");
+    }
+
+    #[test]
+    fn figure_files_render() {
+        let Some(r) = reference() else { return };
+        let t = tables_from_reference(&r);
+        let files = render_files(&gait_figures(&t, &r)).unwrap();
+        assert_eq!(files.len(), 6);
+        for (name, bytes) in &files {
+            if name.ends_with(".png") {
+                assert_eq!(&bytes[1..4], b"PNG", "{name}");
+            } else {
+                let svg = std::str::from_utf8(bytes).unwrap();
+                stride_plot::png::parse_svg(svg).unwrap();
+            }
+            if let Ok(dir) = std::env::var("STRIDE_FIGURE_DIR") {
+                std::fs::write(Path::new(&dir).join(name), bytes).unwrap();
+            }
+        }
+    }
+
+    #[test]
+    fn figures_without_reference_show_the_prediction_only() {
+        let r = WalkingReference {
+            quantities: Default::default(),
+            step_width: [0.0; 2],
+            stride_length: [0.0; 2],
+        };
+        let t = CycleTables {
+            time: vec![0.0, 0.1, 0.2],
+            body_mass: 70.0,
+            coordinates: vec!["knee_angle_r".into()],
+            angles: vec![vec![-10.0], vec![-40.0], vec![-5.0]],
+            torques: vec![vec![7.0], vec![-14.0], vec![0.0]],
+            powers: vec![vec![0.0], vec![1.0], vec![2.0]],
+            muscles: vec!["soleus_r".into()],
+            activations: vec![vec![0.1], vec![0.5], vec![0.2]],
+            excitations: Vec::new(),
+            grf_labels: Vec::new(),
+            grf_bw: vec![vec![0.0; 6]; 3],
+        };
+        let figs = gait_figures(&t, &r);
+        let knee = &figs[0].figure.panels[6];
+        assert!(knee.bands.is_empty());
+        assert_eq!(knee.series[0].y, vec![-10.0, -40.0, -5.0, -10.0]);
+        assert_eq!(knee.series[0].x, vec![0.0, 100.0 / 3.0, 200.0 / 3.0, 100.0]);
+        // Torque per kg.
+        assert!((figs[1].figure.panels[3].series[0].y[1] + 14.0 / 70.0).abs() < 1e-15);
+        // Channels the model lacks have no line; muscles the model lacks have no panel.
+        assert!(figs[0].figure.panels[3].series.is_empty());
+        assert_eq!(figs[2].figure.panels.len(), 1);
+        render_files(&figs).unwrap();
+    }
+
+    /// `write_results` on the data-informed walking guess (no solve) writes the figures
+    /// next to the tables.
+    #[test]
+    fn write_results_writes_the_figures() {
+        use crate::{
+            experimental::Kinematics, guess::GuessKind, predict, problem::GaitProblem,
+            settings::ProblemSettings,
+        };
+        use std::time::Duration;
+        use stride_solve::solver::{SolveResult, SolveStatus};
+        let model = stride_model::default_model::default_model();
+        let settings = ProblemSettings {
+            mesh_intervals: 10,
+            ..Default::default()
+        };
+        let walking = data::walking_half_cycle();
+        let problem = GaitProblem::new(&model, &settings, &walking).unwrap();
+        let kin = Kinematics::from_storage(&walking, &problem.gait, "walking").unwrap();
+        let x = problem
+            .initial_guess(GuessKind::DataInformedWalking, Some(&kin))
+            .unwrap();
+        let result = SolveResult {
+            status: SolveStatus::Optimal,
+            iterations: 0,
+            objective: 0.0,
+            constraint_violation: 0.0,
+            dual_infeasibility: 0.0,
+            x,
+            lambda: Vec::new(),
+            z_l: Vec::new(),
+            z_u: Vec::new(),
+            time_total: Duration::ZERO,
+            time_evaluations: Duration::ZERO,
+            time_linear_solver: Duration::ZERO,
+            time_symbolic: Duration::ZERO,
+            factorizations: 0,
+            objective_evaluations: 0,
+            log: Vec::new(),
+        };
+        let solved = vec![predict::Solved {
+            report: predict::GuessReport {
+                guess: GuessKind::DataInformedWalking,
+                status: "Optimal".into(),
+                converged: true,
+                iterations: 0,
+                objective: 0.0,
+                constraint_violation: 0.0,
+                time_total_s: 0.0,
+                time_evaluations_s: 0.0,
+                time_solver_s: 0.0,
+            },
+            result,
+        }];
+        let dir = std::env::temp_dir().join(format!("stride-figures-{}", std::process::id()));
+        let out = dir.join("run");
+        predict::write_results(&problem, &solved, Some(0), "test", &out).unwrap();
+        for name in ["figure_kinematics", "figure_kinetics", "figure_activations"] {
+            let svg = std::fs::read_to_string(out.join(format!("{name}.svg"))).unwrap();
+            stride_plot::png::parse_svg(&svg).unwrap();
+            let png = std::fs::read(out.join(format!("{name}.png"))).unwrap();
+            assert_eq!(&png[1..4], b"PNG", "{name}");
+            if let Ok(d) = std::env::var("STRIDE_FIGURE_DIR") {
+                std::fs::write(Path::new(&d).join(format!("guess_{name}.png")), &png).unwrap();
+            }
+        }
+        // The tables still hold one row per sample of the 2N-sample cycle.
+        let angles = std::fs::read_to_string(out.join("joint_angles.csv")).unwrap();
+        assert_eq!(angles.lines().count(), 1 + 20);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
