@@ -16,7 +16,7 @@ use crate::data::WalkingReference;
 use crate::problem::{GaitProblem, GRAVITY};
 use crate::trajectory::Trajectory;
 use stride_model::MotionType;
-use stride_plot::{Band, Color, Figure, Panel, PlotError, Series};
+use stride_plot::{Band, Color, Figure, LegendEntry, Panel, PlotError, Series};
 
 /// Body mass of the experimental subject [kg] (subject1 of Falisse et al. 2019): divides the
 /// experimental torques and powers to N m kg⁻¹ and W kg⁻¹.
@@ -381,13 +381,15 @@ fn activation_panels(t: &CycleTables, reference: &WalkingReference) -> Vec<Panel
                     .filter(|v| v.is_finite())
                     .fold(0.0, f64::max);
                 if peak_e > 0.0 && peak_a > 0.0 {
-                    if let Some(b) = reference_band(
+                    if let Some(mut b) = reference_band(
                         reference,
                         "emg",
                         channel,
                         peak_a / peak_e,
-                        "EMG scaled to peak activation (mean ± 2 SD)",
+                        "EMG, scaled to the peak activation (mean ± 2 SD, ≥ 0)",
                     ) {
+                        // Envelopes are non-negative: mean − 2 SD is cut at zero.
+                        b.lower.iter_mut().for_each(|v| *v = v.max(0.0));
                         p = p.band(b);
                     }
                 }
@@ -397,14 +399,29 @@ fn activation_panels(t: &CycleTables, reference: &WalkingReference) -> Vec<Panel
         .collect()
 }
 
-/// Figure of `panels` in a grid with `cols` columns, the legend in the first panel.
-fn grid(title: &str, mut panels: Vec<Panel>, cols: usize, cell: (u32, u32)) -> Figure {
-    if let Some(p) = panels.first_mut() {
-        p.legend = true;
-    }
+/// Figure of `panels` in a grid with `cols` columns, with a figure-level legend of every
+/// distinct band and line label.
+fn grid(title: &str, panels: Vec<Panel>, cols: usize, cell: (u32, u32)) -> Figure {
     let rows = panels.len().div_ceil(cols).max(1);
     let mut f =
-        Figure::new(cell.0 * cols as u32, cell.1 * rows as u32 + 30, rows, cols).title(title);
+        Figure::new(cell.0 * cols as u32, cell.1 * rows as u32 + 52, rows, cols).title(title);
+    let mut seen: Vec<String> = Vec::new();
+    for p in &panels {
+        for b in &p.bands {
+            if let Some(l) = b.label.as_ref().filter(|l| !seen.contains(l)) {
+                seen.push(l.clone());
+                f.legend.push(LegendEntry::fill(b.color, l));
+            }
+        }
+    }
+    for p in &panels {
+        for s in &p.series {
+            if let Some(l) = s.label.as_ref().filter(|l| !seen.contains(l)) {
+                seen.push(l.clone());
+                f.legend.insert(0, LegendEntry::for_series(s, l));
+            }
+        }
+    }
     f.panels = panels;
     f
 }
@@ -553,16 +570,19 @@ mod tests {
                     assert_eq!(p.bands.len(), 1, "{}: {} has no band", f.name, p.title);
                 }
                 if f.name == "figure_activations" {
-                    // The scaled EMG mean peaks at the peak activation.
+                    // EMG × peak activation / peak mean EMG, ± 2 SD, lower bound cut at 0.
                     if let Some(b) = p.bands.first() {
-                        let centre = b
-                            .lower
-                            .iter()
-                            .zip(&b.upper)
-                            .map(|(l, u)| 0.5 * (l + u))
-                            .fold(0.0, f64::max);
-                        let peak = p.series[0].y.iter().copied().fold(0.0, f64::max);
-                        assert!((centre - peak).abs() < 1e-9, "{}", p.title);
+                        let m = MUSCLES.iter().find(|m| m.0 == p.title).unwrap();
+                        let c = &r.quantities["emg"][m.2];
+                        let peak_e = c.mean.iter().copied().fold(0.0, f64::max);
+                        let peak_a = p.series[0].y.iter().copied().fold(0.0, f64::max);
+                        let k = peak_a / peak_e;
+                        for i in 0..c.mean.len() {
+                            let hi = k * (c.mean[i] + 2.0 * c.std[i]);
+                            let lo = (k * (c.mean[i] - 2.0 * c.std[i])).max(0.0);
+                            assert!((b.upper[i] - hi).abs() < 1e-12, "{}", p.title);
+                            assert!((b.lower[i] - lo).abs() < 1e-12, "{}", p.title);
+                        }
                     }
                     continue;
                 }

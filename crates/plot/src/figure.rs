@@ -251,6 +251,54 @@ pub struct Figure {
     pub panels: Vec<Panel>,
     /// Font size of tick labels [px]; titles and axis labels are 1 px larger.
     pub font_size: f64,
+    /// Figure-level legend, one row under the title; empty = none.
+    pub legend: Vec<LegendEntry>,
+}
+
+/// The key drawn next to a legend label.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LegendKey {
+    /// A line sample of a series' colour, width [px] and dash pattern.
+    Line {
+        /// Line colour.
+        color: Color,
+        /// Line width [px].
+        width: f64,
+        /// Dash pattern [px]; `None` = solid.
+        dash: Option<Vec<f64>>,
+    },
+    /// A filled rectangle of a band's colour.
+    Fill(Color),
+}
+
+/// One entry of a figure-level legend.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LegendEntry {
+    /// Label text.
+    pub label: String,
+    /// Key drawn before the label.
+    pub key: LegendKey,
+}
+
+impl LegendEntry {
+    /// Entry with the key of series `s` (its own label unless `label` is given).
+    pub fn for_series(s: &Series, label: &str) -> Self {
+        Self {
+            label: label.to_string(),
+            key: LegendKey::Line {
+                color: s.color,
+                width: s.width,
+                dash: s.dash.clone(),
+            },
+        }
+    }
+    /// Entry with a filled key of `color`.
+    pub fn fill(color: Color, label: &str) -> Self {
+        Self {
+            label: label.to_string(),
+            key: LegendKey::Fill(color),
+        }
+    }
 }
 
 impl Figure {
@@ -264,11 +312,17 @@ impl Figure {
             title: None,
             panels: Vec::new(),
             font_size: 10.0,
+            legend: Vec::new(),
         }
     }
     /// Set the figure title.
     pub fn title(mut self, title: impl Into<String>) -> Self {
         self.title = Some(title.into());
+        self
+    }
+    /// Add an entry to the figure-level legend.
+    pub fn legend_entry(mut self, e: LegendEntry) -> Self {
+        self.legend.push(e);
         self
     }
     /// Add a panel in the next grid cell.

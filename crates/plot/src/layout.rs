@@ -61,10 +61,20 @@ fn axis_ticks(a: &Axis, data: Option<(f64, f64)>) -> Ticks {
 
 /// Height of the figure title band [px].
 pub fn title_height(fig: &Figure) -> f64 {
-    if fig.title.is_some() {
+    let title = if fig.title.is_some() {
         2.4 * (fig.font_size + 3.0)
     } else {
         0.0
+    };
+    title + legend_height(fig)
+}
+
+/// Height of the figure-level legend row [px] (0 without entries).
+pub fn legend_height(fig: &Figure) -> f64 {
+    if fig.legend.is_empty() {
+        0.0
+    } else {
+        2.0 * (fig.font_size + 1.0)
     }
 }
 

@@ -21,6 +21,6 @@ pub mod ticks;
 
 pub use color::Color;
 pub use error::PlotError;
-pub use figure::{Axis, Band, Figure, Panel, Series};
+pub use figure::{Axis, Band, Figure, LegendEntry, LegendKey, Panel, Series};
 pub use layout::PlotArea;
 pub use ticks::{format_tick, nice_ticks, Ticks};

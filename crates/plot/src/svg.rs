@@ -2,8 +2,9 @@
 
 use crate::color::Color;
 use crate::error::PlotError;
+use crate::figure::LegendKey;
 use crate::figure::{Figure, Panel};
-use crate::layout::{plot_area, title_height, PlotArea, CHAR_WIDTH, TICK_LENGTH};
+use crate::layout::{legend_height, plot_area, title_height, PlotArea, CHAR_WIDTH, TICK_LENGTH};
 use crate::ticks::format_tick;
 use std::fmt::Write as _;
 
@@ -236,6 +237,8 @@ pub fn legend_corner(a: &PlotArea, p: &Panel, w: f64, h: f64) -> (f64, f64) {
         (a.left + a.width - w - m, a.top + a.height - h - m),
         (a.left + m, a.top + a.height - h - m),
     ];
+    // A box wider than the plot area starts at its left edge.
+    let corners = corners.map(|(x, y)| (x.max(a.left), y));
     let cost = |&(x, y): &(f64, f64)| -> usize {
         let inside_x = |px: f64| px >= x && px <= x + w;
         let mut n = 0;
@@ -338,6 +341,62 @@ fn write_legend(out: &mut String, a: &PlotArea, p: &Panel, fs: f64) {
     }
 }
 
+fn dash_attr(dash: &Option<Vec<f64>>) -> String {
+    match dash {
+        Some(v) if !v.is_empty() && v.iter().all(|x| x.is_finite() && *x >= 0.0) => {
+            let parts: Vec<String> = v.iter().map(|x| format!("{x:.2}")).collect();
+            format!(" stroke-dasharray=\"{}\"", parts.join(","))
+        }
+        _ => String::new(),
+    }
+}
+
+/// The figure-level legend: one centred row of entries at height `cy`.
+fn write_figure_legend(out: &mut String, fig: &Figure, cy: f64) {
+    let fs = fig.font_size + 1.0;
+    let key = 2.2 * fs;
+    let gap = 2.0 * fs;
+    let widths: Vec<f64> = fig
+        .legend
+        .iter()
+        .map(|e| key + 0.4 * fs + CHAR_WIDTH * fs * e.label.chars().count() as f64)
+        .collect();
+    let total = widths.iter().sum::<f64>() + gap * (widths.len().saturating_sub(1)) as f64;
+    let mut x = (0.5 * (fig.width as f64 - total)).max(4.0);
+    for (e, w) in fig.legend.iter().zip(&widths) {
+        match &e.key {
+            LegendKey::Fill(c) => {
+                let _ = writeln!(
+                    out,
+                    "<rect x=\"{x:.2}\" y=\"{:.2}\" width=\"{key:.2}\" height=\"{:.2}\" {}/>",
+                    cy - 0.4 * fs,
+                    0.8 * fs,
+                    paint("fill", *c)
+                );
+            }
+            LegendKey::Line { color, width, dash } => {
+                let _ = writeln!(
+                    out,
+                    "<line x1=\"{x:.2}\" y1=\"{cy:.2}\" x2=\"{:.2}\" y2=\"{cy:.2}\" {} stroke-width=\"{width:.2}\"{}/>",
+                    x + key,
+                    paint("stroke", *color),
+                    dash_attr(dash)
+                );
+            }
+        }
+        text(
+            out,
+            x + key + 0.4 * fs,
+            cy + 0.35 * fs,
+            fs,
+            "start",
+            false,
+            &e.label,
+        );
+        x += w + gap;
+    }
+}
+
 impl Figure {
     /// The figure as SVG text (width × height user units = px).
     pub fn to_svg(&self) -> Result<String, PlotError> {
@@ -348,17 +407,21 @@ impl Figure {
             out,
             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"{FONT_FAMILY}\" fill=\"#000000\">\n<rect x=\"0\" y=\"0\" width=\"{w}\" height=\"{h}\" fill=\"#ffffff\"/>"
         );
+        let legend_h = legend_height(self);
         if let Some(t) = &self.title {
             let size = self.font_size + 3.0;
             text(
                 &mut out,
                 0.5 * w as f64,
-                0.5 * title_height(self) + 0.35 * size,
+                0.5 * (title_height(self) - legend_h) + 0.35 * size,
                 size,
                 "middle",
                 false,
                 t,
             );
+        }
+        if !self.legend.is_empty() {
+            write_figure_legend(&mut out, self, title_height(self) - 0.5 * legend_h);
         }
         for (i, p) in self.panels.iter().enumerate() {
             write_panel(&mut out, self, i, p);

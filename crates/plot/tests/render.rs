@@ -215,3 +215,21 @@ fn legend_goes_to_the_emptiest_corner() {
     let (_, y) = legend_corner(a, &fig.panels[0], 80.0, 20.0);
     assert!(y > a.top + 0.5 * a.height, "legend at y = {y}");
 }
+
+#[test]
+fn figure_legend_sits_under_the_title_and_above_the_panels() {
+    use stride_plot::LegendEntry;
+    let s = Series::new(vec![0.0, 1.0], vec![0.0, 1.0], Color::BLUE);
+    let fig = Figure::new(400, 300, 1, 1)
+        .title("T")
+        .legend_entry(LegendEntry::for_series(&s, "prediction"))
+        .legend_entry(LegendEntry::fill(Color::GREY, "experiment"))
+        .panel(Panel::new("p", "x", "y").line(s));
+    let svg = fig.to_svg().unwrap();
+    assert!(svg.contains(">prediction</text>") && svg.contains(">experiment</text>"));
+    parse_svg(&svg).unwrap();
+    let with = fig.plot_areas()[0].top;
+    let mut plain = fig.clone();
+    plain.legend.clear();
+    assert!(with > plain.plot_areas()[0].top + 10.0);
+}
