@@ -4,6 +4,7 @@ mod data_cmd;
 mod fit_cmd;
 mod model_cmd;
 mod predict_cmd;
+mod study_cmd;
 
 use clap::{Parser, Subcommand};
 
@@ -29,6 +30,10 @@ enum Command {
     Model(model_cmd::ModelCommand),
     /// Predict a gait (the paper's nominal case with no arguments).
     Predict(predict_cmd::PredictArgs),
+    /// Run every case of a study file (parallel, resumable) and report.
+    Study(study_cmd::StudyArgs),
+    /// Analyse a study output folder (walk/run, transition speed, fits).
+    Report(study_cmd::ReportArgs),
     /// Manage the experimental data shipped with stride.
     #[command(subcommand)]
     Data(data_cmd::DataCommand),
@@ -44,6 +49,8 @@ fn main() {
         Command::Model(cmd) => model_cmd::run(cmd),
         Command::Data(cmd) => data_cmd::run(cmd),
         Command::Predict(args) => predict_cmd::run(args),
+        Command::Study(args) => study_cmd::run(args),
+        Command::Report(args) => study_cmd::report(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

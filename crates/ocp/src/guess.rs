@@ -383,3 +383,92 @@ impl crate::problem::GaitProblem {
         ))
     }
 }
+
+#[cfg(test)]
+mod continuation_tests {
+    use super::*;
+    use crate::problem::GaitProblem;
+
+    fn problem(speed: f64) -> GaitProblem {
+        let settings = ProblemSettings {
+            speed,
+            mesh_intervals: 10,
+            ..Default::default()
+        };
+        GaitProblem::new(
+            &stride_model::default_model::default_model(),
+            &settings,
+            &crate::predict::bounds_data(&settings),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn full_solution_keeps_physical_values_across_scale_factors() {
+        let (a, b) = (problem(1.33), problem(2.33));
+        let x = a.initial_guess(GuessKind::QuasiRandom, None).unwrap();
+        assert_eq!(a.guess_from_full_solution(&a, &x).unwrap(), x);
+        let y = b.guess_from_full_solution(&a, &x).unwrap();
+        let l = &a.layout;
+        let p = Point::Col(3, 2);
+        let mut rescaled = 0;
+        for i in 0..l.nq {
+            assert!((y[l.q(p, i)] * b.scaling.q[i] - x[l.q(p, i)] * a.scaling.q[i]).abs() < 1e-12);
+            assert!((y[l.v(p, i)] * b.scaling.v[i] - x[l.v(p, i)] * a.scaling.v[i]).abs() < 1e-12);
+            if a.scaling.v[i] != b.scaling.v[i] && x[l.v(p, i)] != 0.0 {
+                rescaled += 1;
+            }
+        }
+        assert!(
+            rescaled > 0,
+            "the two speeds have different speed scale factors"
+        );
+        assert_eq!(y[l.tf()], x[l.tf()]);
+        let short = &x[..x.len() - 1];
+        assert!(b.guess_from_full_solution(&a, short).is_err());
+        let c = {
+            let s = ProblemSettings {
+                mesh_intervals: 12,
+                ..Default::default()
+            };
+            GaitProblem::new(
+                &stride_model::default_model::default_model(),
+                &s,
+                &crate::predict::bounds_data(&s),
+            )
+            .unwrap()
+        };
+        assert!(matches!(
+            c.guess_from_full_solution(&a, &x),
+            Err(ContinuationError::Layout { .. })
+        ));
+    }
+
+    #[test]
+    fn partial_solution_of_a_still_posture_has_zero_speeds() {
+        // Constant coordinates: filtering and splining keep them, speeds and accelerations
+        // vanish, t_f is the duration of the samples, pelvis_tx starts at 0.
+        let p = problem(1.33);
+        let l = &p.layout;
+        let n = l.n;
+        let time: Vec<f64> = (0..n).map(|k| 0.06 * k as f64).collect();
+        let row: Vec<f64> = (0..l.nq).map(|i| 0.01 * i as f64 + 0.1).collect();
+        let q = vec![row.clone(); n];
+        let x = p.guess_from_coordinates(&time, &q).unwrap();
+        assert!((x[l.tf()] - 0.06 * (n - 1) as f64).abs() < 1e-12);
+        let tx = p.gait.forward_translation;
+        let pt = Point::Mesh(4);
+        for i in 0..l.nq {
+            let expect = if i == tx { 0.0 } else { row[i] };
+            assert!(
+                (x[l.q(pt, i)] * p.scaling.q[i] - expect).abs() < 1e-9,
+                "q {i}"
+            );
+            assert!((x[l.v(pt, i)] * p.scaling.v[i]).abs() < 1e-8, "v {i}");
+            assert!((x[l.u_dv(4, 1, i)] * p.scaling.a[i]).abs() < 1e-6, "a {i}");
+        }
+        let m = MuscleGuess::for_settings(&p.settings);
+        assert_eq!(x[l.a(pt, 0)], m.activation);
+        assert!(p.guess_from_coordinates(&time[..3], &q[..3]).is_err());
+    }
+}

@@ -215,3 +215,13 @@ impl CaseRunner for PredictRunner {
         Ok(outcome)
     }
 }
+
+/// Build every case's problem once (model changes, bounds) so that a case the model cannot
+/// take (unknown muscle, missing body) is an error naming the case before anything runs.
+pub fn check_cases(model: &Model, cases: &[Case]) -> Result<(), String> {
+    for c in cases {
+        GaitProblem::new(model, &c.settings, &predict::bounds_data(&c.settings))
+            .map_err(|e| format!("case `{}`: {e}", c.name))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,195 @@
+//! `stride study <file>`: run every case of a study file (parallel, resumable) and write
+//! its report; `stride report <folder>`: analyse a study output folder again.
+
+use anyhow::{bail, Context};
+use clap::Args;
+use std::path::PathBuf;
+use std::time::Duration;
+use stride_solve::solver::{HessianMode, MuStrategy, Solver, SolverOptions};
+use stride_study::analysis;
+use stride_study::predict_runner::{check_cases, PredictRunner};
+use stride_study::runner::{run_study, RunOptions};
+use stride_study::spec;
+use stride_study::store::Store;
+
+/// Arguments of `stride study`.
+#[derive(Args)]
+pub struct StudyArgs {
+    /// Study file (TOML) with `[study]`, `[base]` and `[grid]`.
+    pub file: PathBuf,
+    /// Output folder (overrides `[study] output`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Cases solved at the same time (overrides `[study] jobs`).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Solver threads per case (overrides `[study] threads_per_case`).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Iteration limit per case (overrides `[study.solver] max_iter`).
+    #[arg(long)]
+    pub max_iter: Option<usize>,
+    /// Resume into a folder made from a different study file.
+    #[arg(long)]
+    pub force: bool,
+    /// Run failed cases again.
+    #[arg(long)]
+    pub retry_failed: bool,
+    /// Only expand and validate: list the cases and exit.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Arguments of `stride report`.
+#[derive(Args)]
+pub struct ReportArgs {
+    /// Output folder of a study.
+    pub folder: PathBuf,
+}
+
+fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
+    match name {
+        "ipm" => Ok(Box::new(stride_solve::ipm::InteriorPoint::new())),
+        #[cfg(feature = "ipopt")]
+        "ipopt" => Ok(Box::new(
+            stride_solve::backends::ipopt::IpoptSolver::default(),
+        )),
+        #[cfg(not(feature = "ipopt"))]
+        "ipopt" => {
+            bail!("solver `ipopt` needs a build with `--features ipopt` (and coinor-libipopt-dev)")
+        }
+        other => bail!("unknown solver `{other}` in [study.solver] backend (ipm, ipopt)"),
+    }
+}
+
+/// Run `stride study`.
+pub fn run(args: StudyArgs) -> anyhow::Result<()> {
+    let study = spec::load(&args.file)?;
+    let h = &study.header;
+    let s = &h.solver;
+    let solver = backend(s.backend.as_deref().unwrap_or("ipm"))?;
+    let hessian = match s.hessian.as_deref() {
+        None | Some("exact") => HessianMode::Exact,
+        Some("limited-memory") => HessianMode::LimitedMemory { history: 6 },
+        Some(other) => bail!(
+            "{}: [study.solver] unknown hessian `{other}` (exact, limited-memory)",
+            args.file.display()
+        ),
+    };
+    let tol = s.tol.unwrap_or(1e-4);
+    if tol.is_nan() || tol <= 0.0 {
+        bail!(
+            "{}: [study.solver] tol = {tol}: must be positive",
+            args.file.display()
+        );
+    }
+    let threads = args.threads.unwrap_or(h.threads_per_case).max(1);
+    let options = SolverOptions {
+        tol,
+        max_iter: args.max_iter.or(s.max_iter).unwrap_or(3000),
+        hessian,
+        mu_strategy: MuStrategy::Adaptive,
+        time_limit: s.time_limit.map(Duration::from_secs_f64),
+        threads,
+        ..Default::default()
+    };
+    let model = match &h.model {
+        Some(p) => stride_model::osim::load_osim(p)
+            .with_context(|| format!("loading model {}", p.display()))?,
+        None => stride_model::default_model::default_model(),
+    };
+    check_cases(&model, &study.cases)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
+    if args.dry_run {
+        for c in &study.cases {
+            println!("{}", c.name);
+        }
+        println!("{} cases", study.cases.len());
+        return Ok(());
+    }
+    let out = args.out.clone().unwrap_or_else(|| h.output.clone());
+    let store = Store::open(&out, &study, args.force)?;
+    let jobs = args.jobs.unwrap_or(h.jobs).max(1);
+    if !args.quiet {
+        eprintln!(
+            "study `{}`: {} cases, {jobs} at a time, {threads} solver thread(s) each, output {}",
+            h.name,
+            study.cases.len(),
+            out.display()
+        );
+    }
+    let runner = PredictRunner {
+        model,
+        solver,
+        options,
+    };
+    let summary = run_study(
+        &study,
+        &store,
+        &runner,
+        &RunOptions {
+            jobs,
+            quiet: args.quiet,
+            retry_failed: args.retry_failed,
+        },
+    )?;
+    let report = analysis::report_folder(&out)?;
+    println!(
+        "{} cases: {} converged, {} failed ({} run now, {} already done); index {}, report {}",
+        study.cases.len(),
+        summary.converged,
+        summary.failed,
+        summary.ran,
+        summary.skipped,
+        out.join("index.csv").display(),
+        out.join("report.json").display()
+    );
+    print_series(&report);
+    Ok(())
+}
+
+fn print_series(report: &analysis::Report) {
+    for s in &report.speed_series {
+        let key: Vec<String> = s.key.iter().map(|(k, v)| format!("{k}={v}")).collect();
+        println!(
+            "speed series [{}]: {} speeds, transition {}",
+            key.join(", "),
+            s.points.len(),
+            s.transition_speed
+                .map(|t| format!("{t} m/s"))
+                .unwrap_or_else(|| "none".into())
+        );
+        for (what, f) in [
+            ("COT walking (quadratic)", &s.cot_walking_fit),
+            ("COT running (linear)", &s.cot_running_fit),
+            (
+                "stride frequency walking (linear)",
+                &s.stride_frequency_walking_fit,
+            ),
+        ] {
+            if let Some(f) = f {
+                println!("  {what}: R² = {:.3} over {} speeds", f.r_squared, f.n);
+            }
+        }
+    }
+}
+
+/// Run `stride report`.
+pub fn report(args: ReportArgs) -> anyhow::Result<()> {
+    let report = analysis::report_folder(&args.folder)?;
+    println!(
+        "study `{}`: {} cases, {} converged, {} failed, {} not run; {} groups selected; report {}",
+        report.study,
+        report.cases,
+        report.converged,
+        report.failed,
+        report.not_run,
+        report.selected.len(),
+        args.folder.join("report.json").display()
+    );
+    print_series(&report);
+    Ok(())
+}
