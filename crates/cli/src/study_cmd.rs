@@ -125,6 +125,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         model,
         solver,
         options,
+        write_unconverged: h.continue_from_unconverged,
     };
     let summary = run_study(
         &study,

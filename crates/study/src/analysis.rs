@@ -132,11 +132,12 @@ pub fn polyfit(x: &[f64], y: &[f64], degree: usize) -> Option<Fit> {
             return None;
         }
         a.swap(col, piv);
-        for r in 0..m {
+        let pivot_row = a[col].clone();
+        for (r, row) in a.iter_mut().enumerate() {
             if r != col {
-                let f = a[r][col] / a[col][col];
-                for c in col..=m {
-                    a[r][c] -= f * a[col][c];
+                let f = row[col] / pivot_row[col];
+                for (x, p) in row.iter_mut().zip(&pivot_row).skip(col) {
+                    *x -= f * p;
                 }
             }
         }
@@ -147,11 +148,11 @@ pub fn polyfit(x: &[f64], y: &[f64], degree: usize) -> Option<Fit> {
     for (p, bp) in b.iter().enumerate() {
         // (x − xm)^p = Σ_k C(p,k) x^k (−xm)^(p−k)
         let mut binom = 1.0;
-        for k in 0..=p {
+        for (k, c) in coefficients.iter_mut().enumerate().take(p + 1) {
             if k > 0 {
                 binom = binom * (p - k + 1) as f64 / k as f64;
             }
-            coefficients[k] += bp / xs.powi(p as i32) * binom * (-xm).powi((p - k) as i32);
+            *c += bp / xs.powi(p as i32) * binom * (-xm).powi((p - k) as i32);
         }
     }
     let mean = y[..n].iter().sum::<f64>() / n as f64;

@@ -44,6 +44,8 @@ pub struct PredictRunner {
     pub solver: Box<dyn Solver + Sync>,
     /// Solver options (threads = threads per case).
     pub options: SolverOptions,
+    /// Also write `solution.json` (the last iterate) for cases that did not converge.
+    pub write_unconverged: bool,
 }
 
 fn err(e: impl std::fmt::Display) -> String {
@@ -186,22 +188,26 @@ impl CaseRunner for PredictRunner {
             objective: Some(s.report.objective),
             iterations: Some(s.report.iterations),
             metrics: None,
+            solution_written: false,
         };
-        if let (Some(k), Some(o)) = (kept, summary.outcomes.as_ref()) {
+        let saved = kept.or((self.write_unconverged && !solved.is_empty()).then_some(0));
+        if let Some(k) = saved {
             let node = NodeModel::new(&problem).map_err(err)?;
             let mesh = problem
                 .mesh_solution(&node, &solved[k].result.x)
                 .map_err(err)?;
             let cycle = problem.gait_cycle(&mesh);
-            let corr = com_energy_correlation(&problem, &cycle.q, &cycle.v).ok();
-            outcome.metrics = Some(Metrics {
-                cost_of_transport: o.cost_of_transport,
-                stride_length: o.stride_length,
-                stride_frequency: o.stride_frequency,
-                step_width: o.step_width,
-                double_support_fraction: o.double_support_fraction,
-                energy_phase_correlation: corr,
-            });
+            if let (Some(_), Some(o)) = (kept, summary.outcomes.as_ref()) {
+                let corr = com_energy_correlation(&problem, &cycle.q, &cycle.v).ok();
+                outcome.metrics = Some(Metrics {
+                    cost_of_transport: o.cost_of_transport,
+                    stride_length: o.stride_length,
+                    stride_frequency: o.stride_frequency,
+                    step_width: o.step_width,
+                    double_support_fraction: o.double_support_fraction,
+                    energy_phase_correlation: corr,
+                });
+            }
             let sol = SolutionFile {
                 settings: case.settings.clone(),
                 x: solved[k].result.x.clone(),
@@ -211,6 +217,7 @@ impl CaseRunner for PredictRunner {
             let p = dir.join(SOLUTION_FILE);
             let json = serde_json::to_string(&sol).map_err(err)?;
             write_atomic(&p, json.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
+            outcome.solution_written = true;
         }
         Ok(outcome)
     }

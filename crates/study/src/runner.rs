@@ -170,10 +170,11 @@ fn worker(
                 if let Some(i) = next_ready(&sh, cases) {
                     sh.state[i] = State::Running;
                     sh.running += 1;
+                    let loose = study.header.continue_from_unconverged;
                     let source = cases[i].sources.iter().copied().find(|&s| {
-                        sh.records[s]
-                            .as_ref()
-                            .is_some_and(|r| r.status == CaseStatus::Converged)
+                        sh.records[s].as_ref().is_some_and(|r| {
+                            r.status == CaseStatus::Converged || (loose && r.solution_written)
+                        })
                     });
                     break (i, source);
                 }
@@ -239,7 +240,7 @@ fn make_record(
     outcome: Result<CaseOutcome, String>,
     elapsed: Duration,
 ) -> CaseRecord {
-    let (status, reason, objective, iterations, metrics) = match outcome {
+    let (status, reason, objective, iterations, metrics, solution_written) = match outcome {
         Ok(o) => (
             if o.converged {
                 CaseStatus::Converged
@@ -250,8 +251,9 @@ fn make_record(
             o.objective,
             o.iterations,
             o.metrics,
+            o.solution_written,
         ),
-        Err(reason) => (CaseStatus::Failed, reason, None, None, None),
+        Err(reason) => (CaseStatus::Failed, reason, None, None, None, false),
     };
     CaseRecord {
         name: case.name.clone(),
@@ -270,6 +272,7 @@ fn make_record(
             None
         },
         metrics,
+        solution_written,
     }
 }
 

@@ -86,6 +86,10 @@ pub struct StudyHeader {
     /// Speed [m s⁻¹] where continuation chains start (1.33 in the paper).
     #[serde(default = "default_anchor")]
     pub continuation_anchor: f64,
+    /// Let continuation guesses start from the last iterate of a case that did not
+    /// converge (development aid while the solver is not yet converging; off in the paper).
+    #[serde(default)]
+    pub continue_from_unconverged: bool,
     /// Solver options.
     #[serde(default)]
     pub solver: SolverSpec,

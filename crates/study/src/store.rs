@@ -98,6 +98,8 @@ pub struct CaseOutcome {
     pub iterations: Option<usize>,
     /// Outcome measures (converged cases).
     pub metrics: Option<Metrics>,
+    /// Whether the case folder holds a solution usable by continuation guesses.
+    pub solution_written: bool,
 }
 
 /// The record of a finished case (`case.json`).
@@ -127,6 +129,9 @@ pub struct CaseRecord {
     pub continued_from: Option<String>,
     /// Outcome measures.
     pub metrics: Option<Metrics>,
+    /// Whether the case folder holds a solution usable by continuation guesses.
+    #[serde(default)]
+    pub solution_written: bool,
 }
 
 /// FNV-1a 64-bit hash of bytes, as 16 hex digits (identifies a study file's text).

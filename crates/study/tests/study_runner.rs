@@ -62,6 +62,7 @@ impl CaseRunner for Fake {
                 objective: Some(9.0),
                 iterations: Some(5),
                 metrics: None,
+                solution_written: false,
             });
         }
         let v = case.settings.speed;
@@ -87,6 +88,7 @@ impl CaseRunner for Fake {
                 double_support_fraction: if run { 0.0 } else { 0.2 },
                 energy_phase_correlation: Some(if run { 0.9 } else { -0.9 }),
             }),
+            solution_written: true,
         })
     }
 }

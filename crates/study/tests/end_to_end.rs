@@ -1,0 +1,72 @@
+//! One real, tiny study (mesh 8, the fewest samples the filter of the partial guess takes; 4 iterations): a quasi-random case at 1.33 m/s and the
+//! full- and partial-solution continuation cases at 1.43 m/s that start from its last
+//! iterate. The solves end "not converged"; the test checks the plumbing: result files,
+//! `solution.json`, continuation sources, index and report.
+
+use std::path::Path;
+use std::time::Duration;
+use stride_solve::solver::{MuStrategy, SolverOptions};
+use stride_study::predict_runner::{check_cases, PredictRunner, SOLUTION_FILE};
+use stride_study::runner::{run_study, RunOptions};
+use stride_study::spec;
+use stride_study::store::Store;
+
+#[test]
+fn tiny_real_study_runs_continuation_cases_from_written_solutions() {
+    let out = std::env::temp_dir().join(format!("stride-study-e2e-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let text = r#"
+[study]
+name = "tiny"
+output = "unused"
+jobs = 2
+continue_from_unconverged = true
+[base]
+mesh_intervals = 8
+[grid]
+speed = [1.33, 1.43]
+guesses = ["quasi-random", "full-os", "partial-os"]
+"#;
+    let study = spec::parse(text, Path::new("tiny.toml")).unwrap();
+    assert_eq!(study.cases.len(), 4);
+    let model = stride_model::default_model::default_model();
+    check_cases(&model, &study.cases).unwrap();
+    let store = Store::open(&out, &study, false).unwrap();
+    let runner = PredictRunner {
+        model,
+        solver: Box::new(stride_solve::ipm::InteriorPoint::new()),
+        options: SolverOptions {
+            max_iter: 4,
+            tol: 1e-4,
+            mu_strategy: MuStrategy::Adaptive,
+            time_limit: Some(Duration::from_secs(20)),
+            threads: 1,
+            ..Default::default()
+        },
+        write_unconverged: true,
+    };
+    let summary = run_study(
+        &study,
+        &store,
+        &runner,
+        &RunOptions {
+            jobs: 2,
+            quiet: true,
+            retry_failed: false,
+        },
+    )
+    .unwrap();
+    assert_eq!(summary.ran, 4);
+    for name in ["speed_1.33__qr", "speed_1.43__fos", "speed_1.43__pos"] {
+        let r = store.record(name).unwrap();
+        assert!(r.iterations.is_some(), "{name}: {}", r.reason);
+        assert!(r.solution_written, "{name}");
+        assert!(out.join("cases").join(name).join(SOLUTION_FILE).exists());
+        assert!(out.join("cases").join(name).join("summary.json").exists());
+    }
+    let fos = store.record("speed_1.43__fos").unwrap();
+    assert_eq!(fos.continued_from.as_deref(), Some("speed_1.33__qr"));
+    let report = stride_study::analysis::report_folder(&out).unwrap();
+    assert_eq!(report.cases, 4);
+    let _ = std::fs::remove_dir_all(&out);
+}
