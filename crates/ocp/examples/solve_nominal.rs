@@ -32,13 +32,19 @@ fn main() {
     let tr = Transcription::new(problem, tape, x0);
     let options = SolverOptions {
         tol: 1e-4,
-        max_iter: 3000,
+        max_iter: std::env::var("STRIDE_MAX_ITER")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(3000),
         hessian: if lbfgs {
             HessianMode::LimitedMemory { history: 6 }
         } else {
             HessianMode::Exact
         },
-        print_level: 2,
+        print_level: std::env::var("STRIDE_PRINT")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(2),
         mu_strategy: stride_solve::solver::MuStrategy::Adaptive,
         ..Default::default()
     };
@@ -46,6 +52,8 @@ fn main() {
     let solver: Box<dyn Solver> = match backend.as_str() {
         #[cfg(feature = "ipopt")]
         "ipopt" => Box::new(stride_solve::backends::ipopt::IpoptSolver::default()),
+        #[cfg(feature = "ripopt")]
+        "ripopt" => Box::new(stride_solve::backends::ripopt::RipoptSolver::default()),
         _ => Box::new(stride_solve::ipm::InteriorPoint::new()),
     };
     let r = solver

@@ -1,6 +1,6 @@
 //! The primal-dual barrier iteration after Wächter & Biegler 2006: least-squares initial
-//! constraint multipliers, filter line search with second-order correction (no restoration
-//! phase), inertia correction, iterative refinement of the KKT solves, adaptive μ with a
+//! constraint multipliers, filter line search with second-order correction, a simplified
+//! feasibility restoration, inertia correction, iterative refinement of the KKT solves, adaptive μ with a
 //! KKT-error progress check; see docs/decisions/0002-solver.md.
 //!
 //! Problem seen by the iteration (all quantities scaled, see [`ScaledNlp`]):
@@ -250,6 +250,175 @@ fn kkt_residual(
     }
 }
 
+/// Largest number of feasibility-restoration steps after one failed line search.
+const MAX_RESTORATION_STEPS: usize = 40;
+/// Restoration ends once the violation is below this fraction of its value at entry
+/// (IPOPT `required_infeasibility_reduction`).
+const RESTORATION_REDUCTION: f64 = 0.9;
+/// Elastic (Levenberg–Marquardt) weight ε of the restoration steps: the constraint block
+/// of their KKT matrix is −ε I, so a step minimises ‖J d + r‖² / (2ε) plus the barrier and
+/// proximal terms and exists even where the linearised constraints and bounds conflict.
+const RESTORATION_ELASTIC: f64 = 1e-3;
+
+/// Buffers and fixed data that the feasibility restoration shares with the main iteration.
+struct Restoration<'a> {
+    pattern: &'a KktPattern,
+    fixed_x: &'a [bool],
+    kvals: &'a mut [f64],
+    diag_x: &'a mut [f64],
+    d_c: &'a mut [f64],
+    rhs: &'a mut [f64],
+    zero_h: &'a [f64],
+}
+
+/// Simplified feasibility restoration after a failed filter line search: elastic
+/// Gauss–Newton steps that reduce θ = ‖r‖₁ (objective replaced by the primal barrier μ Σ ln
+/// of the slacks to the bounds plus a proximal term √μ/2 ‖dw‖², zero multipliers), Armijo backtracking on θ, until θ
+/// is below 0.9 θ at entry and the point is acceptable to the filter. Returns the restored
+/// (w, c, f), or `None` when θ cannot be reduced (a stationary point of the infeasibility).
+#[allow(clippy::too_many_arguments)]
+fn restore_feasibility(
+    prob: &mut ScaledNlp,
+    st: &State,
+    mu: f64,
+    filter: &[(f64, f64)],
+    linear: &mut dyn KktSolver,
+    buf: Restoration,
+    lin_time: &mut Duration,
+    factorizations: &mut usize,
+    debug: bool,
+) -> Option<(Vec<f64>, Vec<f64>, f64)> {
+    let (n, m, big_n) = (st.n, st.m, st.big_n);
+    let mut w = st.w.clone();
+    let mut c = st.c.clone();
+    let mut jv = st.jv.clone();
+    let mut r = vec![0.0; m];
+    st.residual(&w, &c, &mut r);
+    let theta_entry = one_norm(&r);
+    let mut theta = theta_entry;
+    // IPOPT starts its restoration phase with μ_R = max(μ, ‖c‖∞) and ζ = √μ_R
+    let mu_r = mu.max(inf_norm(&r));
+    let zeta = mu_r.sqrt();
+    let mut sigma = vec![0.0; big_n];
+    let mut dw = vec![0.0; big_n];
+    let mut wt = vec![0.0; big_n];
+    let mut ct = vec![0.0; m];
+    let mut rt = vec![0.0; m];
+    let mut bgrad = vec![0.0; big_n];
+    for _ in 0..MAX_RESTORATION_STEPS {
+        // primal barrier μ Σ ln(slack to bound): gradient and Hessian μ / slack²
+        for j in 0..big_n {
+            let (mut sg, mut b) = (0.0, 0.0);
+            if st.has_l[j] {
+                let sl = w[j] - st.wl[j];
+                sg += mu_r / (sl * sl);
+                b -= mu_r / sl;
+            }
+            if st.has_u[j] {
+                let su = st.wu[j] - w[j];
+                sg += mu_r / (su * su);
+                b += mu_r / su;
+            }
+            sigma[j] = sg + zeta;
+            bgrad[j] = b;
+        }
+        for j in 0..n {
+            buf.diag_x[j] = if buf.fixed_x[j] { FIXED_DIAG } else { sigma[j] };
+        }
+        for i in 0..m {
+            let k = st.slack_of_row[i];
+            buf.d_c[i] = if k == NO_SLACK {
+                RESTORATION_ELASTIC
+            } else {
+                1.0 / sigma[n + k] + RESTORATION_ELASTIC
+            };
+        }
+        buf.pattern
+            .assemble(buf.kvals, buf.zero_h, &jv, buf.diag_x, buf.d_c);
+        let t = Instant::now();
+        let ok = linear.factor(buf.kvals).is_ok();
+        *factorizations += 1;
+        for j in 0..n {
+            buf.rhs[j] = if buf.fixed_x[j] { 0.0 } else { -bgrad[j] };
+        }
+        for i in 0..m {
+            let k = st.slack_of_row[i];
+            buf.rhs[n + i] = if k == NO_SLACK {
+                -r[i]
+            } else {
+                -r[i] - bgrad[n + k] / sigma[n + k]
+            };
+        }
+        let solved = ok && linear.solve(buf.rhs).is_ok();
+        if debug && !solved {
+            eprintln!("    restoration: KKT factorisation or solve failed");
+        }
+        *lin_time += t.elapsed();
+        if !solved || buf.rhs.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        for j in 0..n {
+            dw[j] = if buf.fixed_x[j] { 0.0 } else { buf.rhs[j] };
+        }
+        for (k, &i) in st.row_of_slack.iter().enumerate() {
+            dw[n + k] = (buf.rhs[n + i] - bgrad[n + k]) / sigma[n + k];
+        }
+        // merit: the function whose Gauss–Newton model the step minimises,
+        // ‖r‖² / (2 ε) + μ_R barrier (ε = RESTORATION_ELASTIC)
+        let sq = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>() / (2.0 * RESTORATION_ELASTIC);
+        let barrier = |w: &[f64]| -> f64 {
+            let mut b = 0.0;
+            for j in 0..big_n {
+                if st.has_l[j] {
+                    b -= mu_r * (w[j] - st.wl[j]).ln();
+                }
+                if st.has_u[j] {
+                    b -= mu_r * (st.wu[j] - w[j]).ln();
+                }
+            }
+            b
+        };
+        let merit0 = sq(&r) + barrier(&w);
+        let mut alpha = fraction_to_boundary(st, &w, &dw, 0.99);
+        let mut accepted = None;
+        for _ in 0..30 {
+            for j in 0..big_n {
+                wt[j] = w[j] + alpha * dw[j];
+            }
+            if prob.constraints(&wt[..n], &mut ct).is_ok() {
+                st.residual(&wt, &ct, &mut rt);
+                let theta_t = one_norm(&rt);
+                let merit = sq(&rt) + barrier(&wt);
+                if merit.is_finite() && merit < merit0 {
+                    accepted = Some(theta_t);
+                    break;
+                }
+            }
+            alpha *= 0.5;
+        }
+        if debug {
+            eprintln!(
+                "    restoration: theta {theta:.3e} -> {:?} (alpha {alpha:.2e}, |dw| {:.2e}, entry {theta_entry:.3e})",
+                accepted,
+                inf_norm(&dw)
+            );
+        }
+        let theta_t = accepted?;
+        w.copy_from_slice(&wt);
+        c.copy_from_slice(&ct);
+        r.copy_from_slice(&rt);
+        theta = theta_t;
+        let f = prob.objective(&w[..n]).ok()?;
+        let phi = st.barrier(f, &w, mu);
+        let in_filter = filter.iter().any(|&(ft, fp)| theta >= ft && phi >= fp);
+        if theta <= RESTORATION_REDUCTION * theta_entry && !in_filter {
+            return Some((w, c, f));
+        }
+        prob.jacobian(&w[..n], &mut jv).ok()?;
+    }
+    None
+}
+
 /// Runs the interior-point method on `nlp` with the given KKT linear solver.
 pub fn solve(
     nlp: &dyn Nlp,
@@ -426,11 +595,12 @@ pub fn solve(
     // regularisation δ_c on each constraint row (removed again by iterative refinement)
     let d_c_reg_buf = vec![delta_c; m];
     let mut factorizations = 0usize;
+    let mut restorations = 0usize;
+    let zero_h = vec![0.0; if exact { prob.hess.nnz() } else { 0 }];
 
     // ---- least-squares constraint multipliers (IPOPT's initialisation) -------------------
     // [I Aᵀ; A 0] (d, λ) = (−(∇f − z_L + z_U), 0) over w = (x, s), slacks condensed.
     {
-        let zero_h = vec![0.0; st.hv.len()];
         diag_x.iter_mut().for_each(|v| *v = 1.0);
         for i in 0..m {
             d_c[i] = if st.slack_of_row[i] == NO_SLACK {
@@ -488,7 +658,6 @@ pub fn solve(
     let mut log: Vec<IterationRecord> = Vec::new();
     let mut acceptable_count = 0usize;
     let mut ls_failures = 0usize;
-    let mut theta_hist: Vec<f64> = Vec::new();
     let want_adaptive = matches!(options.mu_strategy, MuStrategy::Adaptive);
     // free (probing) mode of the adaptive μ strategy; false: monotone (fixed) mode
     let mut adaptive = want_adaptive;
@@ -498,7 +667,6 @@ pub fn solve(
     let status: SolveStatus;
     let mut iter = 0usize;
     let mut last_rec = IterationRecord::default();
-    let mut infeasible_stall = 0usize;
 
     loop {
         // ---- optimality error --------------------------------------------------------------
@@ -618,57 +786,24 @@ pub fn solve(
             status = SolveStatus::Diverging;
             break;
         }
-        // Infeasibility: constraint violation stalls while the projected gradient of ½‖r‖²
-        // vanishes relative to ‖r‖.
-        theta_hist.push(one_norm(&r));
-        if iter > 30 && inf_pr_u > options.constr_viol_tol.max(options.tol) {
-            let h = theta_hist.len();
-            let recent = theta_hist[h - 10..]
-                .iter()
-                .cloned()
-                .fold(f64::INFINITY, f64::min);
-            let older = theta_hist[..h - 10]
-                .iter()
-                .cloned()
-                .fold(f64::INFINITY, f64::min);
-            let stalled = recent >= 0.999 * older;
-            // projected Aᵀr
-            gl.iter_mut().for_each(|v| *v = 0.0);
-            for k in 0..st.jv.len() {
-                gl[prob.jac.cols[k]] += st.jv[k] * r[prob.jac.rows[k]];
-            }
-            for (k, &i) in st.row_of_slack.iter().enumerate() {
-                gl[n + k] -= r[i];
-            }
-            let mut pg = 0.0f64;
-            for j in 0..big_n {
-                let near_l = st.has_l[j] && st.w[j] - st.wl[j] < 1e-4 * st.wl[j].abs().max(1.0);
-                let near_u = st.has_u[j] && st.wu[j] - st.w[j] < 1e-4 * st.wu[j].abs().max(1.0);
-                let g = gl[j];
-                if (g > 0.0 && near_l) || (g < 0.0 && near_u) {
-                    continue;
-                }
-                pg = pg.max(g.abs());
-            }
-            if stalled && pg <= 1e-3 * inf_norm(&r).max(1e-12) {
-                infeasible_stall += 1;
-            } else {
-                infeasible_stall = 0;
-            }
-            if infeasible_stall >= 3 || (stalled && ls_failures >= 3) {
-                status = SolveStatus::Infeasible;
-                break;
-            }
-        }
+        // ---- μ floor: tol/10 in the scaled problem while the iterate is not yet primal and
+        // dual feasible (a lower μ that early makes iterates hug their bounds); once it is,
+        // low enough that the unscaled complementarity test (compl_inf_tol) can be met.
+        let mu_floor = if inf_pr_u <= options.constr_viol_tol && inf_du / s_d <= options.tol {
+            options.tol.min(options.compl_inf_tol * prob.obj_scale) / 10.0
+        } else {
+            options.tol / 10.0
+        };
 
         // ---- adaptive μ globalisation: leave free mode without sufficient progress -------
+        // (IPOPT `adaptive_mu_globalization = kkt-error`: the scaled KKT error must fall
+        // below the largest of the last four free-mode errors)
         if adaptive {
             let max_ref = free_refs.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
             if free_refs.len() >= FREE_MODE_REFS && err0 > FREE_MODE_RED * max_ref {
                 adaptive = false;
                 free_refs.clear();
-                mu =
-                    (FIXED_MU_FACTOR * st.average_complementarity()).clamp(options.tol / 10.0, 1e5);
+                mu = (FIXED_MU_FACTOR * st.average_complementarity()).clamp(mu_floor, 1e5);
             } else {
                 free_refs.push(err0);
                 if free_refs.len() > FREE_MODE_REFS {
@@ -682,7 +817,7 @@ pub fn solve(
             for _ in 0..20 {
                 let s_c_mu = st.complementarity(mu) / s_c;
                 let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
-                if err_mu > KAPPA_EPS * mu || mu <= options.tol / 10.0 {
+                if err_mu > KAPPA_EPS * mu || mu <= mu_floor {
                     break;
                 }
                 if want_adaptive && ls_failures == 0 {
@@ -690,7 +825,7 @@ pub fn solve(
                     adaptive = true;
                     break;
                 }
-                mu = (options.tol / 10.0).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
+                mu = (mu_floor).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
             }
         }
 
@@ -890,9 +1025,9 @@ pub fn solve(
             if cnt > 0 && avg > 0.0 {
                 let aff = (s / cnt as f64).max(0.0);
                 let sig = (aff / avg).powi(3).min(1.0);
-                mu = (sig * avg).clamp(options.tol / 10.0, 1e5);
+                mu = (sig * avg).clamp(mu_floor, 1e5);
             } else {
-                mu = options.tol / 10.0;
+                mu = mu_floor;
             }
         }
         tau = (1.0 - mu).max(0.99);
@@ -1039,7 +1174,7 @@ pub fn solve(
             filter.push(((1.0 - GAMMA_THETA) * theta0, phi0 - GAMMA_PHI * theta0));
         }
         bound_multiplier_steps(&st, mu, &dw, &mut dzl, &mut dzu);
-        let alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
+        let mut alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
         if accepted {
             ls_failures = 0;
         } else {
@@ -1048,31 +1183,52 @@ pub fn solve(
                 adaptive = false;
                 mu = mu.max(st.average_complementarity());
             }
-            if ls_failures >= 3 {
+            // feasibility restoration from the current point
+            let restored = restore_feasibility(
+                &mut prob,
+                &st,
+                mu,
+                &filter,
+                linear,
+                Restoration {
+                    pattern: &pattern,
+                    fixed_x: &fixed_x,
+                    kvals: &mut kvals,
+                    diag_x: &mut diag_x,
+                    d_c: &mut d_c,
+                    rhs: &mut rhs,
+                    zero_h: &zero_h,
+                },
+                &mut lin_time,
+                &mut factorizations,
+                options.print_level >= 2,
+            );
+            let Some((w_r, c_r, f_r)) = restored else {
                 status = if inf_pr_u > options.constr_viol_tol {
                     SolveStatus::Infeasible
                 } else {
                     SolveStatus::SmallStep
                 };
                 break;
-            }
-            // no restoration phase: take the shortest trial step, reset the filter and go on
-            filter.clear();
+            };
+            restorations += 1;
+            wt.copy_from_slice(&w_r);
+            ct.copy_from_slice(&c_r);
+            f_t = f_r;
+            // the multipliers of the old point do not carry over: no λ or z step, λ reset
+            // to zero, z recentred on μ (the restoration used the primal barrier)
+            alpha = 0.0;
+            alpha_z = 0.0;
+            st.lam.iter_mut().for_each(|v| *v = 0.0);
             for j in 0..big_n {
-                wt[j] = st.w[j] + alpha * dw[j];
-            }
-            match prob
-                .objective(&wt[..n])
-                .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f))
-            {
-                Ok(f) => f_t = f,
-                Err(_) => {
-                    status = SolveStatus::Failed(
-                        "function evaluation failed along the search direction".into(),
-                    );
-                    break;
+                if st.has_l[j] {
+                    st.zl[j] = mu / (wt[j] - st.wl[j]);
+                }
+                if st.has_u[j] {
+                    st.zu[j] = mu / (st.wu[j] - wt[j]);
                 }
             }
+            filter.clear();
         }
 
         // ---- accept the step --------------------------------------------------------------
@@ -1197,9 +1353,10 @@ pub fn solve(
     };
     if options.print_level >= 1 {
         eprintln!(
-            "stride-ipm: {:?} after {} iterations, f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s)",
+            "stride-ipm: {:?} after {} iterations ({} restorations), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s)",
             result.status,
             result.iterations,
+            restorations,
             result.objective,
             result.constraint_violation,
             result.time_total.as_secs_f64(),

@@ -4,7 +4,9 @@ use std::ops::ControlFlow;
 
 use crate::ipm::InteriorPoint;
 use crate::nlp::{EvalError, Nlp, NlpError, NlpFunction, Sparsity};
-use crate::problems::{Hs006, Hs021, Hs035, Hs071, InfeasibleDisk, PendulumChain, RosenbrockDisk};
+use crate::problems::{
+    Hs006, Hs021, Hs035, Hs071, InfeasibleDisk, PendulumChain, RosenbrockDisk, WaechterBiegler,
+};
 use crate::solver::{
     HessianMode, MuStrategy, SolveError, SolveResult, SolveStatus, Solver, SolverOptions,
 };
@@ -105,6 +107,23 @@ fn solves_hs035_hs021_hs006() {
             &o,
             Hs006::F_OPT,
             &Hs006::X_OPT,
+        );
+    }
+}
+
+#[test]
+fn restoration_solves_the_waechter_biegler_counterexample() {
+    // From x₀ = (−2, 3, 1) the linearised constraints and the bounds x₂, x₃ ≥ 0 become
+    // inconsistent and the filter line search fails near x₁ ≈ −1.1 (IPOPT 3.11.9 stops
+    // there with "local infeasibility"); the elastic restoration steps carry the iterate on
+    // to the optimum (1, 0, 0.5), f* = 1.
+    for (mode, o) in all_options() {
+        check(
+            &format!("WB/{mode}"),
+            &WaechterBiegler,
+            &o,
+            1.0,
+            &[1.0, 0.0, 0.5],
         );
     }
 }

@@ -404,3 +404,59 @@ impl Nlp for InfeasibleDisk {
         Ok(())
     }
 }
+
+/// Wächter & Biegler (2000) counterexample: min x₁ s.t. x₁² − x₂ − 1 = 0, x₁ − x₃ − 0.5 = 0,
+/// x₂, x₃ ≥ 0, from x₀ = (−2, 3, 1): the linearised constraints and the bounds become
+/// inconsistent on the way, so a line-search IPM needs a feasibility restoration. The
+/// optimum is x* = (1, 0, 0.5), f* = 1.
+pub struct WaechterBiegler;
+
+impl Nlp for WaechterBiegler {
+    fn n(&self) -> usize {
+        3
+    }
+    fn m(&self) -> usize {
+        2
+    }
+    fn bounds(&self, x_l: &mut [f64], x_u: &mut [f64], g_l: &mut [f64], g_u: &mut [f64]) {
+        x_l.copy_from_slice(&[-INF, 0.0, 0.0]);
+        x_u.fill(INF);
+        g_l.fill(0.0);
+        g_u.fill(0.0);
+    }
+    fn initial_point(&self, x: &mut [f64]) {
+        x.copy_from_slice(&[-2.0, 3.0, 1.0]);
+    }
+    fn objective(&self, x: &[f64]) -> Result<f64, EvalError> {
+        Ok(x[0])
+    }
+    fn gradient(&self, _x: &[f64], g: &mut [f64]) -> Result<(), EvalError> {
+        g.copy_from_slice(&[1.0, 0.0, 0.0]);
+        Ok(())
+    }
+    fn constraints(&self, x: &[f64], c: &mut [f64]) -> Result<(), EvalError> {
+        c[0] = x[0] * x[0] - x[1] - 1.0;
+        c[1] = x[0] - x[2] - 0.5;
+        Ok(())
+    }
+    fn jacobian_structure(&self) -> Sparsity {
+        Sparsity::new(vec![0, 0, 1, 1], vec![0, 1, 0, 2])
+    }
+    fn jacobian_values(&self, x: &[f64], v: &mut [f64]) -> Result<(), EvalError> {
+        v.copy_from_slice(&[2.0 * x[0], -1.0, 1.0, -1.0]);
+        Ok(())
+    }
+    fn hessian_structure(&self) -> Sparsity {
+        Sparsity::new(vec![0], vec![0])
+    }
+    fn hessian_values(
+        &self,
+        _x: &[f64],
+        _of: f64,
+        l: &[f64],
+        v: &mut [f64],
+    ) -> Result<(), EvalError> {
+        v[0] = 2.0 * l[0];
+        Ok(())
+    }
+}

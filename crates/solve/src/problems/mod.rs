@@ -8,7 +8,7 @@
 pub mod classic;
 pub mod collocation;
 
-pub use classic::{Hs006, Hs021, Hs035, Hs071, InfeasibleDisk, RosenbrockDisk};
+pub use classic::{Hs006, Hs021, Hs035, Hs071, InfeasibleDisk, RosenbrockDisk, WaechterBiegler};
 pub use collocation::PendulumChain;
 
 #[cfg(test)]
