@@ -358,4 +358,45 @@ mod tests {
             model.muscles[l].max_isometric_force
         );
     }
+
+    #[test]
+    fn prosthetic_joints_have_a_linear_passive_torque() {
+        use crate::settings::{CycleKind, Prosthesis};
+        let settings = ProblemSettings {
+            cycle: CycleKind::FullPeriodic,
+            mesh_intervals: 4,
+            prosthesis: Some(Prosthesis::default()),
+            ..Default::default()
+        };
+        let model = stride_model::default_model::default_model();
+        let p =
+            GaitProblem::new(&model, &settings, &crate::predict::bounds_data(&settings)).unwrap();
+        let node = crate::node::NodeModel::new(&p).unwrap();
+        let mut x = p
+            .initial_guess(crate::guess::GuessKind::QuasiRandom, None)
+            .unwrap();
+        let l = &p.layout;
+        let pt = Point::Col(0, 1);
+        let set = |x: &mut Vec<f64>, name: &str, q: f64| {
+            let i = p.gait.index_of(name).unwrap();
+            x[l.q(pt, i)] = q / p.scaling.q[i];
+            i
+        };
+        let ar = set(&mut x, "ankle_angle_r", 0.1);
+        let sr = set(&mut x, "subtalar_angle_r", -0.05);
+        let al = set(&mut x, "ankle_angle_l", 0.1);
+        let io = crate::transcription::NodeInputs {
+            nm: l.nm,
+            nq: l.nq,
+            na: l.na,
+        };
+        let xin: Vec<f64> = io.global_indices(l, 0, 1).iter().map(|&g| x[g]).collect();
+        let mut ws = node.workspace::<f64>().unwrap();
+        let out = node.sample(&mut ws, &xin);
+        // T = −k q with k = 800 N m/rad (FORMULATION 12.1).
+        assert!((out.passive[ar] + 80.0).abs() < 1e-9, "{}", out.passive[ar]);
+        assert!((out.passive[sr] - 40.0).abs() < 1e-9, "{}", out.passive[sr]);
+        // The left (biological) ankle keeps its exponential passive torque.
+        assert!((out.passive[al] + 80.0).abs() > 1.0, "{}", out.passive[al]);
+    }
 }

@@ -170,12 +170,12 @@ fn worker(
                 if let Some(i) = next_ready(&sh, cases) {
                     sh.state[i] = State::Running;
                     sh.running += 1;
-                    let loose = study.header.continue_from_unconverged;
-                    let source = cases[i].sources.iter().copied().find(|&s| {
-                        sh.records[s].as_ref().is_some_and(|r| {
-                            r.status == CaseStatus::Converged || (loose && r.solution_written)
-                        })
-                    });
+                    let source = pick_source(
+                        &cases[i],
+                        cases,
+                        &sh.records,
+                        study.header.continue_from_unconverged,
+                    );
                     break (i, source);
                 }
                 if !sh.state.contains(&State::Pending) {
@@ -232,6 +232,46 @@ fn worker(
         drop(sh);
         wake.notify_all();
     }
+}
+
+/// The source of a continuation case: the closest usable case of its own chain, else the
+/// lowest-objective usable case at the anchor speed (FORMULATION 10.3). Usable = converged,
+/// or with a written solution when `loose`.
+fn pick_source(
+    case: &Case,
+    cases: &[Case],
+    records: &[Option<CaseRecord>],
+    loose: bool,
+) -> Option<usize> {
+    let usable = |s: usize| {
+        records[s]
+            .as_ref()
+            .is_some_and(|r| r.status == CaseStatus::Converged || (loose && r.solution_written))
+    };
+    let chain = case
+        .sources
+        .iter()
+        .copied()
+        .find(|&s| cases[s].guess.is_continuation() && usable(s));
+    chain.or_else(|| {
+        case.sources
+            .iter()
+            .copied()
+            .filter(|&s| !cases[s].guess.is_continuation() && usable(s))
+            .min_by(|&a, &b| {
+                let obj = |i: usize| {
+                    let r = records[i].as_ref();
+                    // Converged before unconverged, then by objective.
+                    (
+                        r.is_none_or(|r| r.status != CaseStatus::Converged),
+                        r.and_then(|r| r.objective).unwrap_or(f64::INFINITY),
+                    )
+                };
+                let (ca, oa) = obj(a);
+                let (cb, ob) = obj(b);
+                ca.cmp(&cb).then(oa.total_cmp(&ob))
+            })
+    })
 }
 
 fn make_record(
