@@ -368,7 +368,7 @@ pub fn report_folder(folder: &Path) -> Result<Report, ReportError> {
     Ok(report)
 }
 
-/// Write `report.json` and the CSV tables of a report into `folder`.
+/// Write `report.json`, the CSV tables and the speed figures of a report into `folder`.
 pub fn write_report(folder: &Path, report: &Report) -> Result<(), StoreError> {
     let p = folder.join("report.json");
     let json = serde_json::to_string_pretty(report).map_err(|e| io_err(&p, e))?;
@@ -426,7 +426,7 @@ pub fn write_report(folder: &Path, report: &Report) -> Result<(), StoreError> {
         let p = folder.join(format!("speed_series_{i}.csv"));
         write_atomic(&p, s.as_bytes()).map_err(|e| io_err(&p, e))?;
     }
-    Ok(())
+    crate::figures::write_speed_figures(folder, &report.speed_series)
 }
 
 /// Why a report could not be made.

@@ -5,8 +5,10 @@
 //! - [`runner`]: parallel, resumable execution through a [`runner::CaseRunner`].
 //! - [`predict_runner`]: the real runner (`stride_ocp::predict`, continuation guesses).
 //! - [`analysis`]: walk/run classification, transition speed, fits, `report.json`.
+//! - [`figures`]: COT and stride frequency versus speed (SVG, PNG).
 
 pub mod analysis;
+pub mod figures;
 pub mod predict_runner;
 pub mod runner;
 pub mod spec;

@@ -324,8 +324,13 @@ speed = [0.73, 0.93, 1.13, 1.33, 1.53, 1.73, 1.93, 2.13, 2.33, 2.53, 2.73]
     assert!(out.join("selected.csv").exists());
     let csv = std::fs::read_to_string(out.join("speed_series_0.csv")).unwrap();
     assert_eq!(csv.lines().count(), 12);
+    let svg = std::fs::read_to_string(out.join("figure_speed_series_0.svg")).unwrap();
+    assert!(svg.contains("Cost of transport") && svg.contains("R² = 1.00"));
+    assert!(out.join("figure_speed_series_0.png").exists());
     let _ = BTreeMap::<String, String>::new();
-    let _ = std::fs::remove_dir_all(&out);
+    if std::env::var_os("KEEP").is_none() {
+        let _ = std::fs::remove_dir_all(&out);
+    }
 }
 
 #[test]
