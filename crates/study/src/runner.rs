@@ -53,6 +53,10 @@ struct Shared {
     ran: usize,
     time_spent: Duration,
     error: Option<StoreError>,
+    /// Start time of each case in flight.
+    started: Vec<Option<Instant>>,
+    /// Set when every worker has stopped.
+    finished: bool,
 }
 
 fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
@@ -112,6 +116,8 @@ pub fn run_study(
         state,
         records,
         running: 0,
+        started: vec![None; cases.len()],
+        finished: false,
         ran: 0,
         time_spent: Duration::ZERO,
         error: None,
@@ -119,9 +125,17 @@ pub fn run_study(
     let wake = Condvar::new();
     let jobs = opts.jobs.max(1);
     std::thread::scope(|scope| {
-        for _ in 0..jobs {
-            scope.spawn(|| worker(study, store, runner, opts, &axes, &shared, &wake));
+        let workers: Vec<_> = (0..jobs)
+            .map(|_| scope.spawn(|| worker(study, store, runner, opts, &axes, &shared, &wake)))
+            .collect();
+        if !opts.quiet {
+            scope.spawn(|| heartbeat(cases, &shared, &wake));
         }
+        for w in workers {
+            let _ = w.join();
+        }
+        shared.lock().unwrap_or_else(|e| e.into_inner()).finished = true;
+        wake.notify_all();
     });
     let sh = shared.into_inner().unwrap_or_else(|e| e.into_inner());
     if let Some(e) = sh.error {
@@ -170,6 +184,7 @@ fn worker(
                 if let Some(i) = next_ready(&sh, cases) {
                     sh.state[i] = State::Running;
                     sh.running += 1;
+                    sh.started[i] = Some(Instant::now());
                     let source = pick_source(
                         &cases[i],
                         cases,
@@ -215,6 +230,7 @@ fn worker(
         let finish = tmp.and_then(|tmp| store.finish(&tmp, &record));
         let mut sh = shared.lock().unwrap_or_else(|e| e.into_inner());
         sh.running -= 1;
+        sh.started[i] = None;
         sh.state[i] = State::Done;
         sh.ran += 1;
         sh.time_spent += elapsed;
@@ -315,6 +331,36 @@ fn make_record(
         solution_written,
     }
 }
+
+/// Every `HEARTBEAT` while cases run, print which ones and for how long.
+fn heartbeat(cases: &[Case], shared: &Mutex<Shared>, wake: &Condvar) {
+    let mut sh = shared.lock().unwrap_or_else(|e| e.into_inner());
+    let mut last = Instant::now();
+    while !sh.finished {
+        let (g, _) = wake
+            .wait_timeout(sh, HEARTBEAT)
+            .unwrap_or_else(|e| e.into_inner());
+        sh = g;
+        if sh.finished || last.elapsed() < HEARTBEAT {
+            continue;
+        }
+        last = Instant::now();
+        let running: Vec<String> = sh
+            .started
+            .iter()
+            .enumerate()
+            .filter_map(|(i, t)| {
+                t.map(|t| format!("{} ({})", cases[i].name, format_duration(t.elapsed())))
+            })
+            .collect();
+        if !running.is_empty() {
+            eprintln!("  running: {}", running.join(", "));
+        }
+    }
+}
+
+/// Interval of the "still running" lines.
+const HEARTBEAT: Duration = Duration::from_secs(60);
 
 fn print_progress(sh: &Shared, total: usize, jobs: usize, last: &CaseRecord) {
     let done = sh.state.iter().filter(|s| **s == State::Done).count();
