@@ -255,9 +255,10 @@ const MAX_RESTORATION_STEPS: usize = 40;
 /// Restoration ends once the violation is below this fraction of its value at entry
 /// (IPOPT `required_infeasibility_reduction`).
 const RESTORATION_REDUCTION: f64 = 0.9;
-/// Elastic (Levenberg–Marquardt) weight ε of the restoration steps: the constraint block
-/// of their KKT matrix is −ε I, so a step minimises ‖J d + r‖² / (2ε) plus the barrier and
-/// proximal terms and exists even where the linearised constraints and bounds conflict.
+/// Relative elastic (Levenberg–Marquardt) weight ε₀ of the restoration steps: the
+/// constraint block of their KKT matrix is −ε I with ε = ε₀ ‖r‖∞ at entry, so a step
+/// minimises ‖J d + r‖² / (2ε) plus the barrier and proximal terms and exists even where
+/// the linearised constraints and bounds conflict.
 const RESTORATION_ELASTIC: f64 = 1e-3;
 
 /// Buffers and fixed data that the feasibility restoration shares with the main iteration.
@@ -299,6 +300,10 @@ fn restore_feasibility(
     // IPOPT starts its restoration phase with μ_R = max(μ, ‖c‖∞) and ζ = √μ_R
     let mu_r = mu.max(inf_norm(&r));
     let zeta = mu_r.sqrt();
+    // elastic weight ε = ε₀ ‖r‖∞ at entry: the penalty gradient r/ε then has entries up to
+    // 1/ε₀ whatever the size of the violation (like IPOPT's ℓ₁ penalty ρ = 1000), so the
+    // barrier μ_R Σ ln(slack) cannot outweigh it once r is small
+    let eps = RESTORATION_ELASTIC * inf_norm(&r).max(f64::MIN_POSITIVE);
     let mut sigma = vec![0.0; big_n];
     let mut dw = vec![0.0; big_n];
     let mut wt = vec![0.0; big_n];
@@ -328,9 +333,9 @@ fn restore_feasibility(
         for i in 0..m {
             let k = st.slack_of_row[i];
             buf.d_c[i] = if k == NO_SLACK {
-                RESTORATION_ELASTIC
+                eps
             } else {
-                1.0 / sigma[n + k] + RESTORATION_ELASTIC
+                1.0 / sigma[n + k] + eps
             };
         }
         buf.pattern
@@ -364,8 +369,8 @@ fn restore_feasibility(
             dw[n + k] = (buf.rhs[n + i] - bgrad[n + k]) / sigma[n + k];
         }
         // merit: the function whose Gauss–Newton model the step minimises,
-        // ‖r‖² / (2 ε) + μ_R barrier (ε = RESTORATION_ELASTIC)
-        let sq = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>() / (2.0 * RESTORATION_ELASTIC);
+        // ‖r‖² / (2 ε) + μ_R barrier
+        let sq = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>() / (2.0 * eps);
         let barrier = |w: &[f64]| -> f64 {
             let mut b = 0.0;
             for j in 0..big_n {
@@ -789,7 +794,8 @@ pub fn solve(
         // ---- μ floor: tol/10 in the scaled problem while the iterate is not yet primal and
         // dual feasible (a lower μ that early makes iterates hug their bounds); once it is,
         // low enough that the unscaled complementarity test (compl_inf_tol) can be met.
-        let mu_floor = if inf_pr_u <= options.constr_viol_tol && inf_du / s_d <= options.tol {
+        let feasible = inf_pr_u <= options.constr_viol_tol && inf_du / s_d <= options.tol;
+        let mu_floor = if feasible {
             options.tol.min(options.compl_inf_tol * prob.obj_scale) / 10.0
         } else {
             options.tol / 10.0
@@ -820,8 +826,10 @@ pub fn solve(
                 if err_mu > KAPPA_EPS * mu || mu <= mu_floor {
                     break;
                 }
-                if want_adaptive && ls_failures == 0 {
-                    // barrier problem solved: back to free mode
+                if want_adaptive && ls_failures == 0 && !feasible {
+                    // barrier problem solved: back to free mode (once primal and dual
+                    // feasible, μ only decreases monotonically: a free-mode probe there
+                    // can leave the feasible region and cycle back)
                     adaptive = true;
                     break;
                 }
@@ -1203,32 +1211,53 @@ pub fn solve(
                 &mut factorizations,
                 options.print_level >= 2,
             );
-            let Some((w_r, c_r, f_r)) = restored else {
-                status = if inf_pr_u > options.constr_viol_tol {
-                    SolveStatus::Infeasible
-                } else {
-                    SolveStatus::SmallStep
-                };
-                break;
-            };
-            restorations += 1;
-            wt.copy_from_slice(&w_r);
-            ct.copy_from_slice(&c_r);
-            f_t = f_r;
-            // the multipliers of the old point do not carry over: no λ or z step, λ reset
-            // to zero, z recentred on μ (the restoration used the primal barrier)
-            alpha = 0.0;
-            alpha_z = 0.0;
-            st.lam.iter_mut().for_each(|v| *v = 0.0);
-            for j in 0..big_n {
-                if st.has_l[j] {
-                    st.zl[j] = mu / (wt[j] - st.wl[j]);
+            if let Some((w_r, c_r, f_r)) = restored {
+                restorations += 1;
+                wt.copy_from_slice(&w_r);
+                ct.copy_from_slice(&c_r);
+                f_t = f_r;
+                // the multipliers of the old point do not carry over: no λ or z step, λ reset
+                // to zero, z recentred on μ (the restoration used the primal barrier)
+                alpha = 0.0;
+                alpha_z = 0.0;
+                st.lam.iter_mut().for_each(|v| *v = 0.0);
+                for j in 0..big_n {
+                    if st.has_l[j] {
+                        st.zl[j] = mu / (wt[j] - st.wl[j]);
+                    }
+                    if st.has_u[j] {
+                        st.zu[j] = mu / (st.wu[j] - wt[j]);
+                    }
                 }
-                if st.has_u[j] {
-                    st.zu[j] = mu / (st.wu[j] - wt[j]);
+                filter.clear();
+            } else {
+                // restoration made no progress either: stop after 3 such failures in a row,
+                // else take the shortest trial step, reset the filter and go on
+                if ls_failures >= 3 {
+                    status = if inf_pr_u > options.constr_viol_tol {
+                        SolveStatus::Infeasible
+                    } else {
+                        SolveStatus::SmallStep
+                    };
+                    break;
+                }
+                filter.clear();
+                for j in 0..big_n {
+                    wt[j] = st.w[j] + alpha * dw[j];
+                }
+                match prob
+                    .objective(&wt[..n])
+                    .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f))
+                {
+                    Ok(f) => f_t = f,
+                    Err(_) => {
+                        status = SolveStatus::Failed(
+                            "function evaluation failed along the search direction".into(),
+                        );
+                        break;
+                    }
                 }
             }
-            filter.clear();
         }
 
         // ---- accept the step --------------------------------------------------------------

@@ -8,11 +8,16 @@
 #![allow(clippy::needless_range_loop)]
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::lblt::factor::LbltParams;
 use faer::linalg::cholesky::ldlt::factor::{LdltParams, LdltRegularization};
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, CholeskySymbolicParams, LdltRef,
-    SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky,
+    supernodal::{SupernodalIntranodeLbltRef, SupernodalLdltRef},
+    CholeskySymbolicParams, IntranodeLbltRef, LdltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 use thiserror::Error;
@@ -243,6 +248,208 @@ impl KktSolver for FaerLdlt {
     }
 }
 
+/// faer's sparse LBLᵀ with Bunch–Kaufman pivoting inside each supernode (forced
+/// supernodal, AMD ordering): 1×1 and 2×2 pivots keep the factorisation stable on
+/// indefinite KKT matrices, so the inertia it reports does not depend on a tiny δ_c making
+/// the matrix quasi-definite. Pivots are not delayed across supernodes.
+pub struct FaerLblt {
+    dim: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    symbolic: Option<SymbolicCholesky<usize>>,
+    l_values: Vec<f64>,
+    subdiag: Vec<f64>,
+    perm_fwd: Vec<usize>,
+    perm_inv: Vec<usize>,
+    buffer: MemBuffer,
+    factored: bool,
+}
+
+impl Default for FaerLblt {
+    fn default() -> Self {
+        FaerLblt {
+            dim: 0,
+            col_ptr: Vec::new(),
+            row_idx: Vec::new(),
+            symbolic: None,
+            l_values: Vec::new(),
+            subdiag: Vec::new(),
+            perm_fwd: Vec::new(),
+            perm_inv: Vec::new(),
+            buffer: MemBuffer::new(StackReq::empty()),
+            factored: false,
+        }
+    }
+}
+
+impl FaerLblt {
+    /// A solver with no analysed pattern yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn lblt_params() -> Spec<LbltParams, f64> {
+        // faer's default: Bunch–Kaufman partial pivoting with a diagonal search
+        Spec::default()
+    }
+
+    /// Inertia of the block-diagonal B (1×1 and 2×2 blocks) of the last factorisation.
+    fn inertia_of_b(&self) -> Inertia {
+        let mut inertia = Inertia::default();
+        let Some(sym) = &self.symbolic else {
+            return inertia;
+        };
+        let SymbolicCholeskyRaw::Supernodal(s) = sym.raw() else {
+            return inertia;
+        };
+        let perm = PermRef::new_checked(&self.perm_fwd, &self.perm_inv, self.dim);
+        let l = SupernodalIntranodeLbltRef::new(s, &self.l_values, &self.subdiag, perm);
+        for k in 0..s.n_supernodes() {
+            let node = l.supernode(k);
+            let v = node.val();
+            let start = node.start();
+            let mut j = 0;
+            while j < v.ncols() {
+                let off = self.subdiag[start + j];
+                if off == 0.0 {
+                    let d = v[(j, j)];
+                    if d > 0.0 {
+                        inertia.positive += 1
+                    } else if d < 0.0 {
+                        inertia.negative += 1
+                    } else {
+                        inertia.zero += 1
+                    }
+                    j += 1;
+                } else {
+                    let (a, c) = (v[(j, j)], v[(j + 1, j + 1)]);
+                    let det = a * c - off * off;
+                    if det < 0.0 {
+                        inertia.positive += 1;
+                        inertia.negative += 1;
+                    } else if det > 0.0 {
+                        if a + c > 0.0 {
+                            inertia.positive += 2
+                        } else {
+                            inertia.negative += 2
+                        }
+                    } else {
+                        inertia.zero += 2;
+                    }
+                    j += 2;
+                }
+            }
+        }
+        inertia
+    }
+}
+
+impl KktSolver for FaerLblt {
+    fn name(&self) -> &str {
+        "faer-lblt"
+    }
+
+    fn analyse(
+        &mut self,
+        dim: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+    ) -> Result<(), LinearSolverError> {
+        self.dim = dim;
+        self.col_ptr = col_ptr.to_vec();
+        self.row_idx = row_idx.to_vec();
+        let a = SymbolicSparseColMatRef::new_unsorted_checked(
+            dim,
+            dim,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
+        let sym = factorize_symbolic_cholesky(
+            a,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| LinearSolverError::Symbolic(format!("{e:?}")))?;
+        self.l_values = vec![0.0; sym.len_val()];
+        self.subdiag = vec![0.0; dim];
+        self.perm_fwd = (0..dim).collect();
+        self.perm_inv = (0..dim).collect();
+        let req = StackReq::any_of(&[
+            sym.factorize_numeric_intranode_lblt_scratch::<f64>(Par::Seq, Self::lblt_params()),
+            sym.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]);
+        self.buffer = MemBuffer::new(req);
+        self.symbolic = Some(sym);
+        self.factored = false;
+        Ok(())
+    }
+
+    fn factor(&mut self, values: &[f64]) -> Result<Inertia, LinearSolverError> {
+        let sym = self
+            .symbolic
+            .as_ref()
+            .ok_or(LinearSolverError::NotReady("analyse"))?;
+        let a_sym = SymbolicSparseColMatRef::new_unsorted_checked(
+            self.dim,
+            self.dim,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
+        let a = SparseColMatRef::new(a_sym, values);
+        let stack = MemStack::new(&mut self.buffer);
+        sym.factorize_numeric_intranode_lblt(
+            &mut self.l_values,
+            &mut self.subdiag,
+            &mut self.perm_fwd,
+            &mut self.perm_inv,
+            a,
+            Side::Lower,
+            Par::Seq,
+            stack,
+            Self::lblt_params(),
+        );
+        let finite = self.l_values.iter().all(|v| v.is_finite())
+            && self.subdiag.iter().all(|v| v.is_finite());
+        if !finite {
+            self.factored = false;
+            return Ok(Inertia {
+                positive: 0,
+                negative: 0,
+                zero: self.dim,
+            });
+        }
+        self.factored = true;
+        Ok(self.inertia_of_b())
+    }
+
+    fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearSolverError> {
+        if !self.factored {
+            return Err(LinearSolverError::NotReady("a successful factorisation"));
+        }
+        let sym = self
+            .symbolic
+            .as_ref()
+            .ok_or(LinearSolverError::NotReady("analyse"))?;
+        let perm = PermRef::new_checked(&self.perm_fwd, &self.perm_inv, self.dim);
+        let l = IntranodeLbltRef::new(sym, &self.l_values, &self.subdiag, perm);
+        let n = rhs.len();
+        let mat = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        let stack = MemStack::new(&mut self.buffer);
+        l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
+        Ok(())
+    }
+
+    fn factor_nnz(&self) -> usize {
+        self.l_values.len()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -258,6 +465,45 @@ mod tests {
         let inertia = s.factor(&vals).unwrap();
         assert_eq!((inertia.positive, inertia.negative), (2, 1));
         // x = (1, 2, 3): b = K x = (4+2+3, 1+6+6, 1+4-3) = (9, 13, 2)
+        let mut b = [9.0, 13.0, 2.0];
+        s.solve(&mut b).unwrap();
+        for (got, want) in b.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        }
+    }
+
+    #[test]
+    fn lblt_pivots_a_zero_diagonal_and_counts_inertia() {
+        // K = [[0, 1, 0], [1, 0, 2], [0, 2, 1/2]]: the first pivot is zero, so an unpivoted
+        // LDLᵀ fails. det(K − λI) = −λ³ + λ²/2 + 5λ − 1/2 is −1/2 at 0, > 0 at 0.1 and → ∓∞
+        // as λ → ±∞: roots in (−∞, 0), (0, 0.1), (0.1, ∞), so the inertia is (2, 1, 0).
+        let col_ptr = [0, 2, 4, 5];
+        let row_idx = [0, 1, 1, 2, 2];
+        let vals = [0.0, 1.0, 0.0, 2.0, 0.5];
+        let mut s = FaerLblt::new();
+        s.analyse(3, &col_ptr, &row_idx).unwrap();
+        let inertia = s.factor(&vals).unwrap();
+        assert_eq!(
+            (inertia.positive, inertia.negative, inertia.zero),
+            (2, 1, 0)
+        );
+        // x = (1, 2, 3): b = K x = (2, 1 + 6, 4 + 1.5)
+        let mut b = [2.0, 7.0, 5.5];
+        s.solve(&mut b).unwrap();
+        for (got, want) in b.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        }
+    }
+
+    #[test]
+    fn lblt_and_ldlt_agree_on_a_quasi_definite_system() {
+        let col_ptr = [0, 3, 5, 6];
+        let row_idx = [0, 1, 2, 1, 2, 2];
+        let vals = [4.0, 1.0, 1.0, 3.0, 2.0, -1.0];
+        let mut s = FaerLblt::new();
+        s.analyse(3, &col_ptr, &row_idx).unwrap();
+        let inertia = s.factor(&vals).unwrap();
+        assert_eq!((inertia.positive, inertia.negative), (2, 1));
         let mut b = [9.0, 13.0, 2.0];
         s.solve(&mut b).unwrap();
         for (got, want) in b.iter().zip([1.0, 2.0, 3.0]) {

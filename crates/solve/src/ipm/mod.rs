@@ -14,7 +14,7 @@ pub mod scaled;
 
 use crate::nlp::Nlp;
 use crate::solver::{ControlFlow, IterationRecord, SolveError, SolveResult, Solver, SolverOptions};
-use linsys::FaerLdlt;
+use linsys::{FaerLblt, FaerLdlt};
 
 /// The interior-point solver with faer's sparse LDLᵀ as the KKT linear solver.
 #[derive(Debug, Clone, Default)]
@@ -38,8 +38,16 @@ impl Solver for InteriorPoint {
         options: &SolverOptions,
         observer: &mut dyn FnMut(&IterationRecord) -> ControlFlow,
     ) -> Result<SolveResult, SolveError> {
-        let mut linear = FaerLdlt::new();
-        algorithm::solve(nlp, options, observer, &mut linear)
+        // KKT linear solver: faer LDLᵀ (default) or, for experiments, the pivoting
+        // LBLᵀ (environment STRIDE_KKT=lblt; see docs/decisions/0002-solver.md)
+        match std::env::var("STRIDE_KKT").ok().as_deref() {
+            None | Some("ldlt") => algorithm::solve(nlp, options, observer, &mut FaerLdlt::new()),
+            Some("lblt") => algorithm::solve(nlp, options, observer, &mut FaerLblt::new()),
+            Some(other) => Err(SolveError::InvalidOption {
+                name: "STRIDE_KKT",
+                reason: format!("`{other}` is not a KKT solver (use `ldlt` or `lblt`)"),
+            }),
+        }
     }
 }
 
