@@ -1,5 +1,7 @@
 //! Development driver: solve the nominal problem with a given mesh and guess.
-//! `cargo run --release -p stride-ocp --example solve_nominal -- <N> <qr|di> [exact|lbfgs]`
+//! `cargo run --release -p stride-ocp --example solve_nominal -- <N> <qr|di> [exact|lbfgs] [ipm|ipopt|ripopt]`
+//! Environment: `STRIDE_PRINT` (print level, default 2), `STRIDE_MAX_ITER` (default 3000),
+//! `STRIDE_MU=monotone` (monotone instead of adaptive barrier update), `STRIDE_KKT=ldlt|lblt`.
 
 use std::ops::ControlFlow;
 use stride_ocp::{
@@ -45,7 +47,11 @@ fn main() {
             .ok()
             .and_then(|v| v.parse().ok())
             .unwrap_or(2),
-        mu_strategy: stride_solve::solver::MuStrategy::Adaptive,
+        mu_strategy: if std::env::var("STRIDE_MU").as_deref() == Ok("monotone") {
+            stride_solve::solver::MuStrategy::Monotone
+        } else {
+            stride_solve::solver::MuStrategy::Adaptive
+        },
         ..Default::default()
     };
     let backend = args.get(4).cloned().unwrap_or_else(|| "ipm".into());

@@ -64,6 +64,10 @@ pub struct SolverOptions {
     pub mu_strategy: MuStrategy,
     /// Initial barrier parameter (default 0.1).
     pub mu_init: f64,
+    /// Adaptive μ safeguard of the pure-Rust interior point: in free mode μ stays above
+    /// min(average complementarity, factor × max(scaled primal, dual infeasibility))
+    /// (default 0.01; 0 disables it; the IPOPT backend ignores it).
+    pub mu_safeguard: f64,
     /// Apply gradient-based NLP scaling (IPOPT default).
     pub nlp_scaling: bool,
     /// Largest gradient entry after scaling (IPOPT `nlp_scaling_max_gradient`, 100).
@@ -89,6 +93,7 @@ impl Default for SolverOptions {
             compl_inf_tol: 1e-4,
             mu_strategy: MuStrategy::Monotone,
             mu_init: 0.1,
+            mu_safeguard: 0.01,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
             bound_push: 1e-2,

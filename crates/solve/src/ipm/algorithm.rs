@@ -1033,7 +1033,12 @@ pub fn solve(
             if cnt > 0 && avg > 0.0 {
                 let aff = (s / cnt as f64).max(0.0);
                 let sig = (aff / avg).powi(3).min(1.0);
-                mu = (sig * avg).clamp(mu_floor, 1e5);
+                // safeguard: far from feasibility a small μ lets iterates hug their bounds
+                // and the multipliers run away (quasi-random gait guess); keep μ in
+                // proportion to the remaining infeasibility, never above the average
+                // complementarity
+                let lower = (options.mu_safeguard * (inf_du / s_d).max(inf_pr)).min(avg);
+                mu = (sig * avg).max(lower).clamp(mu_floor, 1e5);
             } else {
                 mu = mu_floor;
             }
@@ -1408,6 +1413,9 @@ fn check_options(o: &SolverOptions) -> Result<(), SolveError> {
     }
     if o.mu_init.is_nan() || o.mu_init <= 0.0 {
         return bad("mu_init", "must be positive");
+    }
+    if o.mu_safeguard.is_nan() || o.mu_safeguard < 0.0 {
+        return bad("mu_safeguard", "must be non-negative");
     }
     if o.bound_push.is_nan() || o.bound_push <= 0.0 || o.bound_push >= 0.5 {
         return bad("bound_push", "must be in (0, 0.5)");
