@@ -1,5 +1,6 @@
 //! `stride`: predict human gait from a musculoskeletal model and a target speed.
 
+mod bench_cmd;
 mod data_cmd;
 mod fit_cmd;
 mod model_cmd;
@@ -37,6 +38,9 @@ enum Command {
     /// Manage the experimental data shipped with stride.
     #[command(subcommand)]
     Data(data_cmd::DataCommand),
+    /// Print benchmark tables (markdown): solver, derivatives, prediction.
+    #[command(subcommand)]
+    Bench(bench_cmd::BenchCommand),
 }
 
 fn main() {
@@ -51,6 +55,7 @@ fn main() {
         Command::Predict(args) => predict_cmd::run(args),
         Command::Study(args) => study_cmd::run(args),
         Command::Report(args) => study_cmd::report(args),
+        Command::Bench(cmd) => bench_cmd::run(cmd),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -77,7 +77,8 @@ struct StudyFile {
     solver: SolverSection,
 }
 
-fn parse_guess(s: &str) -> anyhow::Result<GuessKind> {
+/// The initial guess named on the command line or in a study file.
+pub(crate) fn parse_guess(s: &str) -> anyhow::Result<GuessKind> {
     Ok(match s.trim() {
         "quasi-random" | "qr" => GuessKind::QuasiRandom,
         "data-informed-walking" | "di-walking" => GuessKind::DataInformedWalking,
@@ -88,7 +89,8 @@ fn parse_guess(s: &str) -> anyhow::Result<GuessKind> {
     })
 }
 
-fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
+/// The solver backend named on the command line or in a study file (`ipm`, `ipopt`).
+pub(crate) fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
     match name {
         "ipm" => Ok(Box::new(stride_solve::ipm::InteriorPoint::new())),
         #[cfg(feature = "ipopt")]
@@ -101,6 +103,42 @@ fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
         }
         other => bail!("unknown solver `{other}` (ipm, ipopt)"),
     }
+}
+
+/// The Hessian mode named on the command line or in a study file (default exact).
+pub(crate) fn parse_hessian(name: Option<&str>) -> anyhow::Result<HessianMode> {
+    match name.map(str::trim) {
+        None | Some("exact") => Ok(HessianMode::Exact),
+        Some("limited-memory") => Ok(HessianMode::LimitedMemory { history: 6 }),
+        Some(other) => bail!("unknown hessian `{other}` (exact, limited-memory)"),
+    }
+}
+
+/// Solver options of a prediction: tolerance (default 1e-4), iteration limit (default
+/// 3000), Hessian mode, wall-time limit per solve [s] (default none), adaptive μ.
+pub(crate) fn prediction_options(
+    tol: Option<f64>,
+    max_iter: Option<usize>,
+    hessian: HessianMode,
+    time_limit: Option<f64>,
+) -> anyhow::Result<SolverOptions> {
+    let tol = tol.unwrap_or(1e-4);
+    if tol.is_nan() || tol <= 0.0 {
+        bail!("invalid tol {tol}: must be positive");
+    }
+    if let Some(t) = time_limit {
+        if !(t.is_finite() && t > 0.0) {
+            bail!("invalid time limit {t} s: must be a positive number of seconds");
+        }
+    }
+    Ok(SolverOptions {
+        tol,
+        max_iter: max_iter.unwrap_or(3000),
+        hessian,
+        mu_strategy: MuStrategy::Adaptive,
+        time_limit: time_limit.map(Duration::from_secs_f64),
+        ..Default::default()
+    })
 }
 
 /// Run `stride predict`.
@@ -137,26 +175,13 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         .or(s.backend.clone())
         .unwrap_or_else(|| "ipm".into());
     let solver = backend(&backend_name)?;
-    let hessian = match args.hessian.or(s.hessian.clone()).as_deref() {
-        None | Some("exact") => HessianMode::Exact,
-        Some("limited-memory") => HessianMode::LimitedMemory { history: 6 },
-        Some(other) => bail!("unknown hessian `{other}` (exact, limited-memory)"),
-    };
-    let tol = args.tol.or(s.tol).unwrap_or(1e-4);
-    if tol.is_nan() || tol <= 0.0 {
-        bail!("invalid tol {tol}: must be positive");
-    }
-    let options = SolverOptions {
-        tol,
-        max_iter: args.max_iter.or(s.max_iter).unwrap_or(3000),
+    let hessian = parse_hessian(args.hessian.or(s.hessian.clone()).as_deref())?;
+    let options = prediction_options(
+        args.tol.or(s.tol),
+        args.max_iter.or(s.max_iter),
         hessian,
-        mu_strategy: MuStrategy::Adaptive,
-        time_limit: args
-            .time_limit
-            .or(s.time_limit)
-            .map(Duration::from_secs_f64),
-        ..Default::default()
-    };
+        args.time_limit.or(s.time_limit),
+    )?;
     let model = match args.model.or(study.model) {
         Some(p) => stride_model::osim::load_osim(&p)
             .with_context(|| format!("loading model {}", p.display()))?,

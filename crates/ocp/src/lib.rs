@@ -4,7 +4,9 @@
 //! - [`gait`]: the gait view of a model (coordinate roles, mirror maps).
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
+//! - [`bench`]: timing of the NLP derivatives (`stride bench derivatives`).
 
+pub mod bench;
 pub mod bounds;
 pub mod data;
 pub mod experimental;

@@ -97,6 +97,36 @@ pub fn bounds_data(settings: &ProblemSettings) -> Storage {
     }
 }
 
+/// The scaled NLP vector of initial guess `g` for `problem`; data-informed guesses follow
+/// the experimental kinematics of their gait (walking: the bounds data, running: the
+/// running half cycle).
+pub fn guess_point(problem: &GaitProblem, g: GuessKind) -> Result<Vec<f64>, PredictError> {
+    let storage = match g {
+        GuessKind::DataInformedRunning => Some(data::running_half_cycle()),
+        GuessKind::DataInformedWalking => Some(bounds_data(&problem.settings)),
+        GuessKind::QuasiRandom => None,
+    };
+    let kin = storage
+        .map(|s| Kinematics::from_storage(&s, &problem.gait, "guess kinematics"))
+        .transpose()
+        .map_err(ProblemError::from)?;
+    Ok(problem.initial_guess(g, kin.as_ref())?)
+}
+
+/// The transcribed NLP of `model` with `settings` as [`solve_guesses`] builds it (node
+/// function recorded on a tape), starting from initial guess `g`.
+pub fn transcribe(
+    model: &Model,
+    settings: &ProblemSettings,
+    g: GuessKind,
+) -> Result<Transcription<TapeNode>, PredictError> {
+    let problem = GaitProblem::new(model, settings, &bounds_data(settings))?;
+    let node = NodeModel::new(&problem)?;
+    let x0 = guess_point(&problem, g)?;
+    let tape = TapeNode::for_problem(&problem, &node, &x0)?;
+    Ok(Transcription::new(problem, tape, x0))
+}
+
 /// Solve `model` with `settings` from each guess with `solver`; `progress` receives every
 /// iteration of every guess.
 pub fn solve_guesses(
@@ -109,19 +139,10 @@ pub fn solve_guesses(
 ) -> Result<(GaitProblem, Vec<Solved>), PredictError> {
     let problem = GaitProblem::new(model, settings, &bounds_data(settings))?;
     let node = NodeModel::new(&problem)?;
-    let mut x0s = Vec::new();
-    for &g in guesses {
-        let storage = match g {
-            GuessKind::DataInformedRunning => Some(data::running_half_cycle()),
-            GuessKind::DataInformedWalking => Some(bounds_data(settings)),
-            GuessKind::QuasiRandom => None,
-        };
-        let kin = storage
-            .map(|s| Kinematics::from_storage(&s, &problem.gait, "guess kinematics"))
-            .transpose()
-            .map_err(ProblemError::from)?;
-        x0s.push(problem.initial_guess(g, kin.as_ref())?);
-    }
+    let x0s = guesses
+        .iter()
+        .map(|&g| guess_point(&problem, g))
+        .collect::<Result<Vec<_>, _>>()?;
     let first = x0s
         .first()
         .ok_or_else(|| PredictError::Solver("no initial guess".into()))?;

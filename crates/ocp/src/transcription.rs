@@ -500,6 +500,15 @@ impl<F: NodeFunction> Transcription<F> {
         }
     }
 
+    /// Forget the cached node evaluations, so that the next evaluation at any point
+    /// recomputes every collocation point (for timing single evaluations).
+    pub fn clear_cache(&self) {
+        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
+        cache.x.clear();
+        cache.valid_values = false;
+        cache.valid_jac = false;
+    }
+
     /// The node function.
     pub fn node(&self) -> &F {
         &self.node

@@ -5,8 +5,10 @@
 //! - [`ipm`]: stride's own pure-Rust interior-point method.
 //! - [`problems`]: test problems with known solutions.
 //! - [`backends`]: other solver backends (ripopt, system IPOPT behind the `ipopt` feature).
+//! - [`bench`]: solver benchmarks on the pendulum-chain collocation problem (markdown tables).
 
 pub mod backends;
+pub mod bench;
 pub mod ipm;
 pub mod nlp;
 pub mod problems;

@@ -1,0 +1,386 @@
+//! `stride bench`: benchmark tables (markdown) of the solvers on the pendulum-chain
+//! collocation problem, of the gait NLP's derivatives, and of the nominal prediction.
+
+use crate::predict_cmd;
+use anyhow::{bail, Context};
+use clap::{Args, Subcommand};
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+use stride_ocp::predict;
+use stride_ocp::settings::ProblemSettings;
+use stride_solve::bench::{self as solver_bench, SolveCase};
+
+/// The benchmarks of `stride bench`.
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// Interior point on the pendulum-chain collocation problem (10 links) per size,
+    /// backend and Hessian: KKT factorisation and full solves.
+    Solver(SolverArgs),
+    /// Gradient, constraints, sparse Jacobian and Hessian of the gait NLP at the
+    /// data-informed guess, with 1 and all threads.
+    Derivatives(DerivativesArgs),
+    /// The nominal prediction (1.33 m/s) per backend, Hessian and initial guess: time,
+    /// iterations, objective and peak memory (one child process per case).
+    Predict(PredictArgs),
+    /// Solve one prediction case and print its measurements as one JSON line (used by
+    /// `stride bench predict`).
+    #[command(hide = true)]
+    PredictOne(PredictOneArgs),
+}
+
+/// Arguments of `stride bench solver`.
+#[derive(Args)]
+pub struct SolverArgs {
+    /// Mesh intervals of the chain, comma separated (110 variables per interval).
+    #[arg(long, value_delimiter = ',', default_value = "25,100,250,545")]
+    pub sizes: Vec<usize>,
+    /// Solver backend: ipm, ipopt (needs the `ipopt` feature) or all.
+    #[arg(long, default_value = "ipm")]
+    pub backend: String,
+    /// Hessian modes, comma separated: exact, limited-memory.
+    #[arg(long, value_delimiter = ',', default_value = "exact,limited-memory")]
+    pub hessian: Vec<String>,
+    /// Wall-time limit per solve [s].
+    #[arg(long, default_value_t = 120.0)]
+    pub time_limit: f64,
+}
+
+/// Arguments of `stride bench derivatives`.
+#[derive(Args)]
+pub struct DerivativesArgs {
+    /// Mesh intervals (3 collocation points each).
+    #[arg(long, default_value_t = 50)]
+    pub mesh: usize,
+    /// Repetitions per evaluation (the median is reported).
+    #[arg(long, default_value_t = 10)]
+    pub reps: usize,
+    /// Threads of the parallel run (default: all available cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Arguments of `stride bench predict`.
+#[derive(Args)]
+pub struct PredictArgs {
+    /// Mesh intervals.
+    #[arg(long, default_value_t = 50)]
+    pub mesh: usize,
+    /// Solver backend: ipm, ipopt (needs the `ipopt` feature) or all.
+    #[arg(long, default_value = "ipm")]
+    pub backend: String,
+    /// Hessian modes, comma separated: exact, limited-memory.
+    #[arg(long, value_delimiter = ',', default_value = "exact,limited-memory")]
+    pub hessian: Vec<String>,
+    /// Initial guesses, comma separated: data-informed-walking, quasi-random, data-informed-running.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "data-informed-walking,quasi-random"
+    )]
+    pub guess: Vec<String>,
+    /// Iteration limit per solve.
+    #[arg(long, default_value_t = 3000)]
+    pub max_iter: usize,
+    /// Wall-time limit per solve [s] (default: none).
+    #[arg(long)]
+    pub time_limit: Option<f64>,
+}
+
+/// Arguments of the hidden `stride bench predict-one`.
+#[derive(Args)]
+pub struct PredictOneArgs {
+    /// Mesh intervals.
+    #[arg(long)]
+    pub mesh: usize,
+    /// Solver backend: ipm or ipopt.
+    #[arg(long)]
+    pub backend: String,
+    /// Hessian mode: exact or limited-memory.
+    #[arg(long)]
+    pub hessian: String,
+    /// Initial guess.
+    #[arg(long)]
+    pub guess: String,
+    /// Iteration limit.
+    #[arg(long)]
+    pub max_iter: usize,
+    /// Wall-time limit [s].
+    #[arg(long)]
+    pub time_limit: Option<f64>,
+}
+
+/// Measurements of one prediction case (the JSON line of `stride bench predict-one`).
+#[derive(Serialize, Deserialize, Debug, Clone)]
+pub struct CaseReport {
+    /// Solver status.
+    pub status: String,
+    /// Iterations performed.
+    pub iterations: usize,
+    /// Final objective: the paper's weighted effort per distance travelled.
+    pub objective: f64,
+    /// Final constraint violation (max-norm, scaled NLP units).
+    pub constraint_violation: f64,
+    /// Wall time of the solve [s].
+    pub time_total_s: f64,
+    /// Time in NLP function evaluations [s].
+    pub time_evaluations_s: f64,
+    /// Time in the KKT linear solver [s] (None: the backend does not report it).
+    pub time_linear_solver_s: Option<f64>,
+    /// Resident-set high-water mark of the process [KiB] (None: not on Linux).
+    pub peak_rss_kib: Option<u64>,
+}
+
+/// Run `stride bench ...`.
+pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
+    match cmd {
+        BenchCommand::Solver(a) => solver(a),
+        BenchCommand::Derivatives(a) => derivatives(a),
+        BenchCommand::Predict(a) => predict_grid(a),
+        BenchCommand::PredictOne(a) => predict_one(a),
+    }
+}
+
+/// The backends a `--backend` choice stands for; `all` without the ipopt feature is ipm
+/// only, with a note printed.
+fn backends(choice: &str) -> anyhow::Result<Vec<&'static str>> {
+    match choice.trim() {
+        "ipm" => Ok(vec!["ipm"]),
+        "ipopt" => {
+            predict_cmd::backend("ipopt")?;
+            Ok(vec!["ipopt"])
+        }
+        "all" if cfg!(feature = "ipopt") => Ok(vec!["ipm", "ipopt"]),
+        "all" => {
+            println!(
+                "> note: this build has no IPOPT backend (build with `--features ipopt`); \
+                 `all` runs ipm only.\n"
+            );
+            Ok(vec!["ipm"])
+        }
+        other => bail!("unknown backend `{other}` (ipm, ipopt, all)"),
+    }
+}
+
+fn check_time_limit(t: f64) -> anyhow::Result<Duration> {
+    if !(t.is_finite() && t > 0.0) {
+        bail!("invalid time limit {t} s: must be a positive number of seconds");
+    }
+    Ok(Duration::from_secs_f64(t))
+}
+
+/// Settings of the nominal problem (1.33 m/s) with `mesh` intervals, checked.
+fn nominal_settings(mesh: usize) -> anyhow::Result<ProblemSettings> {
+    let settings = ProblemSettings {
+        mesh_intervals: mesh,
+        ..Default::default()
+    };
+    settings
+        .validate()
+        .with_context(|| format!("--mesh {mesh}"))?;
+    Ok(settings)
+}
+
+fn solver(a: SolverArgs) -> anyhow::Result<()> {
+    solver_bench::check_intervals(&a.sizes)?;
+    let cases = a
+        .hessian
+        .iter()
+        .map(|h| SolveCase::parse(h))
+        .collect::<Result<Vec<_>, _>>()?;
+    if cases.is_empty() {
+        bail!("no hessian given");
+    }
+    let time_limit = Some(check_time_limit(a.time_limit)?);
+    let solvers = backends(&a.backend)?
+        .into_iter()
+        .map(predict_cmd::backend)
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut rows = Vec::new();
+    for &n in &a.sizes {
+        rows.push(solver_bench::factorisation(n)?);
+    }
+    println!("{}", solver_bench::factorisation_table(&rows));
+    println!("{}\n", solver_bench::solve_heading(time_limit));
+    print!("{}", solver_bench::solve_table_header());
+    for &n in &a.sizes {
+        for s in &solvers {
+            for case in &cases {
+                let r = solver_bench::solve(n, s.as_ref(), case, time_limit)?;
+                println!("{}", solver_bench::solve_row(&r));
+                std::io::stdout().flush()?;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn derivatives(a: DerivativesArgs) -> anyhow::Result<()> {
+    let settings = nominal_settings(a.mesh)?;
+    if a.reps == 0 {
+        bail!("--reps 0: at least one repetition is needed");
+    }
+    let all = match a.threads {
+        Some(0) => bail!("--threads 0: at least one thread is needed"),
+        Some(t) => t,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    let threads: Vec<usize> = if all == 1 { vec![1] } else { vec![1, all] };
+    let model = stride_model::default_model::default_model();
+    let b = stride_ocp::bench::derivatives(&model, &settings, a.reps, &threads)?;
+    print!("{}", stride_ocp::bench::derivatives_table(&b));
+    Ok(())
+}
+
+/// One case of the prediction grid.
+struct Case {
+    backend: &'static str,
+    hessian: String,
+    guess: String,
+}
+
+fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
+    nominal_settings(a.mesh)?;
+    for h in &a.hessian {
+        predict_cmd::parse_hessian(Some(h))?;
+    }
+    for g in &a.guess {
+        predict_cmd::parse_guess(g)?;
+    }
+    if a.hessian.is_empty() || a.guess.is_empty() {
+        bail!("no hessian or no initial guess given");
+    }
+    if a.max_iter == 0 {
+        bail!("--max-iter 0: at least one iteration is needed");
+    }
+    if let Some(t) = a.time_limit {
+        check_time_limit(t)?;
+    }
+    let backends = backends(&a.backend)?;
+    let mut cases = Vec::new();
+    for &backend in &backends {
+        for h in &a.hessian {
+            for g in &a.guess {
+                cases.push(Case {
+                    backend,
+                    hessian: h.trim().to_string(),
+                    guess: g.trim().to_string(),
+                });
+            }
+        }
+    }
+    let exe = std::env::current_exe().context("locating the stride executable")?;
+    println!(
+        "## Nominal prediction (1.33 m/s, {} mesh intervals, tol 1e-4, adaptive μ, max {} iterations, {}); \
+         one child process per case\n",
+        a.mesh,
+        a.max_iter,
+        a.time_limit
+            .map_or("no time limit".into(), |t| format!("{t} s limit"))
+    );
+    println!(
+        "| backend | Hessian | guess | status | iterations | objective | process s | solve s | evaluations s | solver s | of which linear s | peak RSS MiB |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    std::io::stdout().flush()?;
+    for c in &cases {
+        let mut cmd = Command::new(&exe);
+        cmd.args(["bench", "predict-one", "--mesh", &a.mesh.to_string()])
+            .args(["--backend", c.backend, "--hessian", &c.hessian])
+            .args(["--guess", &c.guess, "--max-iter", &a.max_iter.to_string()]);
+        if let Some(t) = a.time_limit {
+            cmd.args(["--time-limit", &t.to_string()]);
+        }
+        let t = Instant::now();
+        let out = cmd
+            .stdin(Stdio::null())
+            .output()
+            .with_context(|| format!("running {}", exe.display()))?;
+        let process_s = t.elapsed().as_secs_f64();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let report = stdout
+            .lines()
+            .rev()
+            .find(|l| l.starts_with('{'))
+            .and_then(|l| serde_json::from_str::<CaseReport>(l).ok());
+        let lead = format!("| {} | {} | {} |", c.backend, c.hessian, c.guess);
+        match report {
+            Some(r) if out.status.success() => {
+                let f2 = |v: f64| format!("{v:.2}");
+                println!(
+                    "{lead} {} | {} | {:.6} | {} | {} | {} | {} | {} | {} |",
+                    r.status,
+                    r.iterations,
+                    r.objective,
+                    f2(process_s),
+                    f2(r.time_total_s),
+                    f2(r.time_evaluations_s),
+                    f2(r.time_total_s - r.time_evaluations_s),
+                    r.time_linear_solver_s.map_or("n/a".into(), f2),
+                    r.peak_rss_kib
+                        .map_or("n/a".into(), |k| format!("{:.0}", k as f64 / 1024.0)),
+                );
+            }
+            _ => {
+                let stderr = String::from_utf8_lossy(&out.stderr);
+                let why = stderr
+                    .lines()
+                    .rev()
+                    .find(|l| !l.trim().is_empty())
+                    .unwrap_or("no output")
+                    .replace('|', "/");
+                println!(
+                    "{lead} failed ({}): {why} | | | {process_s:.2} | | | | | |",
+                    out.status
+                );
+            }
+        }
+        std::io::stdout().flush()?;
+    }
+    Ok(())
+}
+
+/// Resident-set high-water mark of this process [KiB] (`VmHWM` of /proc/self/status).
+fn peak_rss_kib() -> Option<u64> {
+    if !cfg!(target_os = "linux") {
+        return None;
+    }
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+}
+
+fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
+    let settings = nominal_settings(a.mesh)?;
+    let solver = predict_cmd::backend(&a.backend)?;
+    let guess = predict_cmd::parse_guess(&a.guess)?;
+    let hessian = predict_cmd::parse_hessian(Some(&a.hessian))?;
+    let options = predict_cmd::prediction_options(None, Some(a.max_iter), hessian, a.time_limit)?;
+    let model = stride_model::default_model::default_model();
+    let (_, solved) = predict::solve_guesses(
+        &model,
+        &settings,
+        &[guess],
+        solver.as_ref(),
+        &options,
+        &|_, _| {},
+    )?;
+    let s = solved.first().context("no solve result")?;
+    let r = &s.result;
+    let reported = r.factorizations > 0 || !r.time_linear_solver.is_zero();
+    let report = CaseReport {
+        status: s.report.status.clone(),
+        iterations: s.report.iterations,
+        objective: s.report.objective,
+        constraint_violation: s.report.constraint_violation,
+        time_total_s: s.report.time_total_s,
+        time_evaluations_s: s.report.time_evaluations_s,
+        time_linear_solver_s: reported.then_some(r.time_linear_solver.as_secs_f64()),
+        peak_rss_kib: peak_rss_kib(),
+    };
+    println!("{}", serde_json::to_string(&report)?);
+    Ok(())
+}

@@ -1,0 +1,262 @@
+//! Timing of the derivatives of the transcribed gait problem (the NLP `stride predict`
+//! solves): objective gradient, constraints, sparse constraint Jacobian and sparse
+//! Lagrangian Hessian at the data-informed walking guess, with 1 and more threads, printed
+//! as a markdown table. Behind `stride bench derivatives`; nothing here asserts on speed.
+//!
+//! The collocation points are evaluated in parallel on the rayon pool the call runs in, so
+//! the thread count is set by running the evaluations inside a pool of that size.
+
+use crate::guess::GuessKind;
+use crate::predict::{self, PredictError};
+use crate::settings::ProblemSettings;
+use crate::tape_node::TapeNode;
+use crate::transcription::Transcription;
+use std::fmt::Write as _;
+use std::time::{Duration, Instant};
+use stride_model::Model;
+use stride_solve::nlp::{EvalError, Nlp};
+
+/// The per-call wall-clock time the Jacobian evaluation should reach (issue goal, 10 ms).
+pub const JACOBIAN_GOAL: Duration = Duration::from_millis(10);
+
+/// Why the derivative benchmark could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// A benchmark argument is out of range.
+    #[error("{0}")]
+    Argument(String),
+    /// The problem could not be built.
+    #[error(transparent)]
+    Predict(#[from] PredictError),
+    /// An NLP function failed at the guess.
+    #[error("evaluation failed: {0}")]
+    Eval(#[from] EvalError),
+    /// The thread pool could not be created.
+    #[error("thread pool: {0}")]
+    Threads(String),
+}
+
+/// Median wall-clock time of one call of each derivative evaluation with a thread count.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DerivativeTimes {
+    /// Threads evaluating the collocation points.
+    pub threads: usize,
+    /// Objective gradient (node values and Jacobians recomputed).
+    pub gradient: Duration,
+    /// Constraint values (node values recomputed).
+    pub constraints: Duration,
+    /// Sparse constraint Jacobian (node values and Jacobians recomputed).
+    pub jacobian: Duration,
+    /// Sparse Lagrangian Hessian (node Hessians; node Jacobians cached from the Jacobian
+    /// call at the same point, as in a solver iteration).
+    pub hessian: Duration,
+}
+
+/// Sizes of the NLP and derivative timings per thread count.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DerivativeBench {
+    /// Mesh intervals N.
+    pub mesh_intervals: usize,
+    /// Collocation points (3 per interval).
+    pub nodes: usize,
+    /// Number of NLP variables.
+    pub n: usize,
+    /// Number of NLP constraints.
+    pub m: usize,
+    /// Nonzeros of the constraint Jacobian.
+    pub jacobian_nnz: usize,
+    /// Nonzeros of the lower triangle of the Lagrangian Hessian.
+    pub hessian_nnz: usize,
+    /// Repetitions each time is the median of.
+    pub reps: usize,
+    /// Time to build the problem and record the node tape.
+    pub setup: Duration,
+    /// Timings, one entry per thread count.
+    pub times: Vec<DerivativeTimes>,
+}
+
+/// Builds the gait NLP of `model` with `settings` at the data-informed walking guess and
+/// times its derivatives (median of `reps` calls) for each thread count in `threads`.
+pub fn derivatives(
+    model: &Model,
+    settings: &ProblemSettings,
+    reps: usize,
+    threads: &[usize],
+) -> Result<DerivativeBench, BenchError> {
+    if reps == 0 {
+        return Err(BenchError::Argument(
+            "reps 0: at least one repetition is needed".into(),
+        ));
+    }
+    if threads.is_empty() || threads.contains(&0) {
+        return Err(BenchError::Argument(
+            "threads 0: at least one thread is needed".into(),
+        ));
+    }
+    let t = Instant::now();
+    let nlp = predict::transcribe(model, settings, GuessKind::DataInformedWalking)?;
+    let setup = t.elapsed();
+    let mut x = vec![0.0; nlp.n()];
+    nlp.initial_point(&mut x);
+    let times = threads
+        .iter()
+        .map(|&th| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(th)
+                .build()
+                .map_err(|e| BenchError::Threads(e.to_string()))?;
+            pool.install(|| time_calls(&nlp, &x, reps, th))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(DerivativeBench {
+        mesh_intervals: settings.mesh_intervals,
+        nodes: 3 * settings.mesh_intervals,
+        n: nlp.n(),
+        m: nlp.m(),
+        jacobian_nnz: nlp.jacobian_structure().nnz(),
+        hessian_nnz: nlp.hessian_structure().nnz(),
+        reps,
+        setup,
+        times,
+    })
+}
+
+/// Times the four evaluations at `x` in the current thread pool (one untimed warm-up).
+fn time_calls(
+    nlp: &Transcription<TapeNode>,
+    x: &[f64],
+    reps: usize,
+    threads: usize,
+) -> Result<DerivativeTimes, BenchError> {
+    let (n, m) = (nlp.n(), nlp.m());
+    let mut grad = vec![0.0; n];
+    let mut cons = vec![0.0; m];
+    let mut jac = vec![0.0; nlp.jacobian_structure().nnz()];
+    let mut hess = vec![0.0; nlp.hessian_structure().nnz()];
+    let lambda = vec![1.0; m];
+    let mut samples: [Vec<Duration>; 4] = Default::default();
+    for rep in 0..=reps {
+        let timed = |f: &mut dyn FnMut() -> Result<(), EvalError>, cold: bool| {
+            if cold {
+                nlp.clear_cache();
+            }
+            let t = Instant::now();
+            f().map(|_| t.elapsed())
+        };
+        let d = [
+            timed(&mut || nlp.gradient(x, &mut grad), true)?,
+            timed(&mut || nlp.constraints(x, &mut cons), true)?,
+            timed(&mut || nlp.jacobian_values(x, &mut jac), true)?,
+            timed(
+                &mut || nlp.hessian_values(x, 1.0, &lambda, &mut hess),
+                false,
+            )?,
+        ];
+        if rep > 0 {
+            for (s, d) in samples.iter_mut().zip(d) {
+                s.push(d);
+            }
+        }
+    }
+    let [g, c, j, h] = samples.map(median);
+    Ok(DerivativeTimes {
+        threads,
+        gradient: g,
+        constraints: c,
+        jacobian: j,
+        hessian: h,
+    })
+}
+
+/// Median of a non-empty list of durations (mean of the two middle ones for even counts).
+pub fn median(mut v: Vec<Duration>) -> Duration {
+    v.sort();
+    let k = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[k]
+    } else {
+        (v[k - 1] + v[k]) / 2
+    }
+}
+
+/// Markdown report: NLP sizes, then one row per evaluation with one column (ms) per
+/// thread count and the Jacobian goal.
+pub fn derivatives_table(b: &DerivativeBench) -> String {
+    let mut s = format!(
+        "## Derivatives of the gait NLP ({} mesh intervals, {} collocation points; \
+         data-informed walking guess; median of {} calls)\n\n\
+         n = {}, m = {}, Jacobian nnz = {}, Hessian nnz (lower triangle) = {}; \
+         problem and tape built in {:.2} s\n\n| evaluation |",
+        b.mesh_intervals,
+        b.nodes,
+        b.reps,
+        b.n,
+        b.m,
+        b.jacobian_nnz,
+        b.hessian_nnz,
+        b.setup.as_secs_f64()
+    );
+    for t in &b.times {
+        let unit = if t.threads == 1 { "thread" } else { "threads" };
+        let _ = write!(s, " {} {unit} ms |", t.threads);
+    }
+    s.push_str(" goal |\n|---|");
+    for _ in &b.times {
+        s.push_str("---|");
+    }
+    s.push_str("---|\n");
+    let goal = format!("goal < {} ms", JACOBIAN_GOAL.as_millis());
+    let column = |get: fn(&DerivativeTimes) -> Duration| -> Vec<Duration> {
+        b.times.iter().map(get).collect()
+    };
+    let rows = [
+        ("objective gradient", column(|t| t.gradient), ""),
+        ("constraints", column(|t| t.constraints), ""),
+        (
+            "sparse Jacobian (`jacobian_values`)",
+            column(|t| t.jacobian),
+            goal.as_str(),
+        ),
+        (
+            "Lagrangian Hessian (`hessian_values`, node Jacobians cached)",
+            column(|t| t.hessian),
+            "",
+        ),
+    ];
+    for (label, times, note) in rows {
+        let _ = write!(s, "| {label} |");
+        for d in times {
+            let _ = write!(s, " {:.2} |", d.as_secs_f64() * 1e3);
+        }
+        let _ = writeln!(s, " {note} |");
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        let ms = Duration::from_millis;
+        assert_eq!(median(vec![ms(3), ms(1), ms(2)]), ms(2));
+        assert_eq!(median(vec![ms(4), ms(1), ms(2), ms(3)]), ms(2) + ms(1) / 2);
+    }
+
+    #[test]
+    fn bad_arguments_are_rejected_before_building() {
+        let model = stride_model::default_model::default_model();
+        let settings = ProblemSettings::default();
+        assert!(derivatives(&model, &settings, 0, &[1]).is_err());
+        assert!(derivatives(&model, &settings, 1, &[0]).is_err());
+        let mesh0 = ProblemSettings {
+            mesh_intervals: 0,
+            ..Default::default()
+        };
+        let e = derivatives(&model, &mesh0, 1, &[1])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("mesh_intervals"), "{e}");
+    }
+}
