@@ -149,6 +149,17 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         out.join("report.json").display()
     );
     print_series(&report);
+    if summary.failed > 0 {
+        // the study ran to the end and its report is written, but not every case converged:
+        // exit 2 (as `stride predict` does for an unconverged solve) so scripts can tell
+        eprintln!(
+            "{} of {} cases failed (reasons in {})",
+            summary.failed,
+            study.cases.len(),
+            out.join("index.csv").display()
+        );
+        std::process::exit(2);
+    }
     Ok(())
 }
 
