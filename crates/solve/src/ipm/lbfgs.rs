@@ -57,7 +57,10 @@ impl Lbfgs {
         }
         self.s.push_back(s.to_vec());
         self.y.push_back(y.to_vec());
-        self.sigma = (yy / sy).clamp(1e-8, 1e8);
+        // B₀ = σI with σ = sᵀy / sᵀs (IPOPT's `scalar1`, the mean curvature along s). The
+        // alternative yᵀy / sᵀy (`scalar2`) is dominated by the stiffest directions: on the
+        // gait problem it gave δ-free but tiny steps and inf_du 1e9 (decision 0002).
+        self.sigma = (sy / ss).clamp(1e-8, 1e8);
         true
     }
 
