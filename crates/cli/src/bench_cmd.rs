@@ -7,7 +7,7 @@ use clap::{Args, Subcommand};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 use stride_ocp::predict;
 use stride_ocp::settings::ProblemSettings;
 use stride_solve::bench::{self as solver_bench, SolveCase};
@@ -163,13 +163,6 @@ fn backends(choice: &str) -> anyhow::Result<Vec<&'static str>> {
     }
 }
 
-fn check_time_limit(t: f64) -> anyhow::Result<Duration> {
-    if !(t.is_finite() && t > 0.0) {
-        bail!("invalid time limit {t} s: must be a positive number of seconds");
-    }
-    Ok(Duration::from_secs_f64(t))
-}
-
 /// Settings of the nominal problem (1.33 m/s) with `mesh` intervals, checked.
 fn nominal_settings(mesh: usize) -> anyhow::Result<ProblemSettings> {
     let settings = ProblemSettings {
@@ -192,7 +185,7 @@ fn solver(a: SolverArgs) -> anyhow::Result<()> {
     if cases.is_empty() {
         bail!("no hessian given");
     }
-    let time_limit = Some(check_time_limit(a.time_limit)?);
+    let time_limit = Some(predict_cmd::check_time_limit(a.time_limit)?);
     let solvers = backends(&a.backend)?
         .into_iter()
         .map(predict_cmd::backend)
@@ -255,7 +248,7 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
         bail!("--max-iter 0: at least one iteration is needed");
     }
     if let Some(t) = a.time_limit {
-        check_time_limit(t)?;
+        predict_cmd::check_time_limit(t)?;
     }
     let backends = backends(&a.backend)?;
     let mut cases = Vec::new();

@@ -114,6 +114,14 @@ pub(crate) fn parse_hessian(name: Option<&str>) -> anyhow::Result<HessianMode> {
     }
 }
 
+/// A wall-time limit [s] given on the command line or in a study file, checked positive.
+pub(crate) fn check_time_limit(t: f64) -> anyhow::Result<Duration> {
+    if !(t.is_finite() && t > 0.0) {
+        bail!("invalid time limit {t} s: must be a positive number of seconds");
+    }
+    Ok(Duration::from_secs_f64(t))
+}
+
 /// Solver options of a prediction: tolerance (default 1e-4), iteration limit (default
 /// 3000), Hessian mode, wall-time limit per solve [s] (default none), adaptive μ.
 pub(crate) fn prediction_options(
@@ -126,17 +134,13 @@ pub(crate) fn prediction_options(
     if tol.is_nan() || tol <= 0.0 {
         bail!("invalid tol {tol}: must be positive");
     }
-    if let Some(t) = time_limit {
-        if !(t.is_finite() && t > 0.0) {
-            bail!("invalid time limit {t} s: must be a positive number of seconds");
-        }
-    }
+    let time_limit = time_limit.map(check_time_limit).transpose()?;
     Ok(SolverOptions {
         tol,
         max_iter: max_iter.unwrap_or(3000),
         hessian,
         mu_strategy: MuStrategy::Adaptive,
-        time_limit: time_limit.map(Duration::from_secs_f64),
+        time_limit,
         ..Default::default()
     })
 }

@@ -1,11 +1,11 @@
 //! `stride study <file>`: run every case of a study file (parallel, resumable) and write
 //! its report; `stride report <folder>`: analyse a study output folder again.
 
-use anyhow::{bail, Context};
+use crate::predict_cmd;
+use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
-use std::time::Duration;
-use stride_solve::solver::{HessianMode, MuStrategy, Solver, SolverOptions};
+use stride_solve::solver::SolverOptions;
 use stride_study::analysis;
 use stride_study::predict_runner::{check_cases, PredictRunner};
 use stride_study::runner::{run_study, RunOptions};
@@ -50,51 +50,26 @@ pub struct ReportArgs {
     pub folder: PathBuf,
 }
 
-fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
-    match name {
-        "ipm" => Ok(Box::new(stride_solve::ipm::InteriorPoint::new())),
-        #[cfg(feature = "ipopt")]
-        "ipopt" => Ok(Box::new(
-            stride_solve::backends::ipopt::IpoptSolver::default(),
-        )),
-        #[cfg(not(feature = "ipopt"))]
-        "ipopt" => {
-            bail!("solver `ipopt` needs a build with `--features ipopt` (and coinor-libipopt-dev)")
-        }
-        other => bail!("unknown solver `{other}` in [study.solver] backend (ipm, ipopt)"),
-    }
-}
-
 /// Run `stride study`.
 pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     let study = spec::load(&args.file)?;
     let h = &study.header;
     let s = &h.solver;
-    let solver = backend(s.backend.as_deref().unwrap_or("ipm"))?;
-    let hessian = match s.hessian.as_deref() {
-        None | Some("exact") => HessianMode::Exact,
-        Some("limited-memory") => HessianMode::LimitedMemory { history: 6 },
-        Some(other) => bail!(
-            "{}: [study.solver] unknown hessian `{other}` (exact, limited-memory)",
-            args.file.display()
-        ),
-    };
-    let tol = s.tol.unwrap_or(1e-4);
-    if tol.is_nan() || tol <= 0.0 {
-        bail!(
-            "{}: [study.solver] tol = {tol}: must be positive",
-            args.file.display()
-        );
-    }
+    // the same names, defaults and checks as `stride predict`, errors prefixed by the section
+    let section = || format!("{}: [study.solver]", args.file.display());
+    let solver =
+        predict_cmd::backend(s.backend.as_deref().unwrap_or("ipm")).with_context(section)?;
+    let hessian = predict_cmd::parse_hessian(s.hessian.as_deref()).with_context(section)?;
     let threads = args.threads.unwrap_or(h.threads_per_case).max(1);
     let options = SolverOptions {
-        tol,
-        max_iter: args.max_iter.or(s.max_iter).unwrap_or(3000),
-        hessian,
-        mu_strategy: MuStrategy::Adaptive,
-        time_limit: s.time_limit.map(Duration::from_secs_f64),
         threads,
-        ..Default::default()
+        ..predict_cmd::prediction_options(
+            s.tol,
+            args.max_iter.or(s.max_iter),
+            hessian,
+            s.time_limit,
+        )
+        .with_context(section)?
     };
     let model = match &h.model {
         Some(p) => stride_model::osim::load_osim(p)
