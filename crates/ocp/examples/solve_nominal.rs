@@ -4,10 +4,7 @@
 //! `STRIDE_MU=monotone` (monotone instead of adaptive barrier update), `STRIDE_KKT=ldlt|lblt`.
 
 use std::ops::ControlFlow;
-use stride_ocp::{
-    data, experimental::Kinematics, guess::GuessKind, node::NodeModel, problem::GaitProblem,
-    settings::ProblemSettings, tape_node::TapeNode, transcription::Transcription,
-};
+use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
 use stride_solve::solver::{HessianMode, Solver, SolverOptions};
 
 fn main() {
@@ -23,15 +20,9 @@ fn main() {
         mesh_intervals: n,
         ..Default::default()
     };
-    let walking = data::walking_half_cycle();
-    let problem = GaitProblem::new(&model, &settings, &walking).unwrap();
-    let kin = Kinematics::from_storage(&walking, &problem.gait, "walking").unwrap();
-    let x0 = problem.initial_guess(guess, Some(&kin)).unwrap();
-    let node = NodeModel::new(&problem).unwrap();
     let t0 = std::time::Instant::now();
-    let tape = TapeNode::for_problem(&problem, &node, &x0).unwrap();
-    println!("tape: {:?} in {:?}", tape.tape().stats(), t0.elapsed());
-    let tr = Transcription::new(problem, tape, x0);
+    let tr = stride_ocp::predict::transcribe(&model, &settings, guess).unwrap();
+    println!("problem and tape in {:?}", t0.elapsed());
     let options = SolverOptions {
         tol: 1e-4,
         max_iter: std::env::var("STRIDE_MAX_ITER")
