@@ -363,7 +363,6 @@ fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
     )?;
     let s = solved.first().context("no solve result")?;
     let r = &s.result;
-    let reported = r.factorizations > 0 || !r.time_linear_solver.is_zero();
     let report = CaseReport {
         status: s.report.status.clone(),
         iterations: s.report.iterations,
@@ -371,7 +370,7 @@ fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
         constraint_violation: s.report.constraint_violation,
         time_total_s: s.report.time_total_s,
         time_evaluations_s: s.report.time_evaluations_s,
-        time_linear_solver_s: reported.then_some(r.time_linear_solver.as_secs_f64()),
+        time_linear_solver_s: r.reported_linear_solver_time().map(|d| d.as_secs_f64()),
         peak_rss_kib: peak_rss_kib(),
     };
     println!("{}", serde_json::to_string(&report)?);

@@ -238,7 +238,7 @@ pub fn solve(
         ..SolverOptions::default()
     };
     let r = solver.solve(&p, &o, &mut |_| ControlFlow::Continue(()))?;
-    let reported = r.factorizations > 0 || !r.time_linear_solver.is_zero();
+    let linear_solver = r.reported_linear_solver_time();
     Ok(SolveRow {
         intervals,
         n: p.n(),
@@ -248,7 +248,7 @@ pub fn solve(
         iterations: r.iterations,
         total: r.time_total,
         evaluations: r.time_evaluations,
-        linear_solver: reported.then_some(r.time_linear_solver),
+        linear_solver,
         factorizations: r.factorizations,
         objective: r.objective,
     })

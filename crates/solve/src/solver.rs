@@ -203,6 +203,13 @@ impl SolveResult {
             .saturating_sub(self.time_evaluations)
             .saturating_sub(self.time_linear_solver)
     }
+
+    /// Time in the KKT factorisations and solves, or None when the backend does not report
+    /// it (no factorisation counted and zero time).
+    pub fn reported_linear_solver_time(&self) -> Option<Duration> {
+        (self.factorizations > 0 || !self.time_linear_solver.is_zero())
+            .then_some(self.time_linear_solver)
+    }
 }
 
 /// A solve that could not start or was aborted by an error (not a non-converged run, which
