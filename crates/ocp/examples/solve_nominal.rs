@@ -1,7 +1,8 @@
 //! Development driver: solve the nominal problem with a given mesh and guess.
 //! `cargo run --release -p stride-ocp --example solve_nominal -- <N> <qr|di> [exact|lbfgs] [ipm|ipopt|ripopt]`
 //! Environment: `STRIDE_PRINT` (print level, default 2), `STRIDE_MAX_ITER` (default 3000),
-//! `STRIDE_MU=monotone` (monotone instead of adaptive barrier update), `STRIDE_KKT=ldlt|lblt`.
+//! `STRIDE_MU=monotone` (monotone instead of adaptive barrier update) or `STRIDE_MU=pd`
+//! (adaptive with `SolverOptions::mu_pd_globalisation`), `STRIDE_KKT=ldlt|lblt`.
 
 use std::ops::ControlFlow;
 use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
@@ -43,6 +44,7 @@ fn main() {
         } else {
             stride_solve::solver::MuStrategy::Adaptive
         },
+        mu_pd_globalisation: std::env::var("STRIDE_MU").as_deref() == Ok("pd"),
         ..Default::default()
     };
     let backend = args.get(4).cloned().unwrap_or_else(|| "ipm".into());

@@ -87,7 +87,7 @@ pub fn factorisation(intervals: usize) -> Result<Factorisation, BenchError> {
     let (n, m) = (p.n(), p.m());
     let jac = p.jacobian_structure();
     let hess = p.hessian_structure();
-    let pattern = KktPattern::new(n, m, &jac, Some(&hess));
+    let pattern = KktPattern::new(n, m, &jac, &hess);
     let mut x = vec![0.0; n];
     p.initial_point(&mut x);
     let mut jv = vec![0.0; jac.nnz()];

@@ -68,6 +68,11 @@ pub struct SolverOptions {
     /// min(average complementarity, factor × max(scaled primal, dual infeasibility))
     /// (default 0.01; 0 disables it; the IPOPT backend ignores it).
     pub mu_safeguard: f64,
+    /// Adaptive μ globalisation of the pure-Rust interior point as in IPOPT's `kkt-error`:
+    /// progress measured by the mean squared primal-dual error, and fixed mode left as soon
+    /// as progress is made again (default false: scaled max-norm error, and fixed mode kept
+    /// until its barrier problem is solved; the IPOPT backend ignores it).
+    pub mu_pd_globalisation: bool,
     /// Apply gradient-based NLP scaling (IPOPT default).
     pub nlp_scaling: bool,
     /// Largest gradient entry after scaling (IPOPT `nlp_scaling_max_gradient`, 100).
@@ -94,6 +99,7 @@ impl Default for SolverOptions {
             mu_strategy: MuStrategy::Monotone,
             mu_init: 0.1,
             mu_safeguard: 0.01,
+            mu_pd_globalisation: false,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
             bound_push: 1e-2,

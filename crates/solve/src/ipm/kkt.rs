@@ -25,27 +25,25 @@ pub struct KktPattern {
     pub row_idx: Vec<usize>,
     /// Position of each diagonal entry (dim).
     pub diag_pos: Vec<usize>,
-    /// Position of each Hessian nonzero (empty when the Hessian is not assembled).
+    /// Position of each Hessian nonzero.
     pub hess_pos: Vec<usize>,
     /// Position of each Jacobian nonzero.
     pub jac_pos: Vec<usize>,
 }
 
 impl KktPattern {
-    /// Builds the pattern for `n` variables and `m` constraints from the Jacobian pattern and,
-    /// for exact-Hessian mode, the lower-triangular Hessian pattern.
-    pub fn new(n: usize, m: usize, jac: &Sparsity, hess: Option<&Sparsity>) -> Self {
+    /// Builds the pattern for `n` variables and `m` constraints from the Jacobian pattern and
+    /// the lower-triangular Hessian pattern (kept in limited-memory mode too, for the ordering).
+    pub fn new(n: usize, m: usize, jac: &Sparsity, hess: &Sparsity) -> Self {
         let dim = n + m;
         // (col, row, source) with source: 0..dim diagonal, then Hessian, then Jacobian.
-        let nh = hess.map_or(0, |h| h.nnz());
+        let nh = hess.nnz();
         let mut entries: Vec<(usize, usize, usize)> = Vec::with_capacity(dim + nh + jac.nnz());
         for i in 0..dim {
             entries.push((i, i, i));
         }
-        if let Some(h) = hess {
-            for k in 0..nh {
-                entries.push((h.cols[k], h.rows[k], dim + k));
-            }
+        for k in 0..nh {
+            entries.push((hess.cols[k], hess.rows[k], dim + k));
         }
         for k in 0..jac.nnz() {
             entries.push((jac.cols[k], n + jac.rows[k], dim + nh + k));
@@ -125,7 +123,7 @@ mod tests {
     fn pattern_merges_hessian_diagonal_and_places_jacobian_below() {
         let jac = Sparsity::new(vec![0, 0], vec![0, 1]);
         let hess = Sparsity::new(vec![0, 1, 1], vec![0, 0, 1]);
-        let p = KktPattern::new(2, 1, &jac, Some(&hess));
+        let p = KktPattern::new(2, 1, &jac, &hess);
         assert_eq!(p.dim, 3);
         // column 0: rows 0, 1, 2; column 1: rows 1, 2; column 2: row 2.
         assert_eq!(p.col_ptr, vec![0, 3, 5, 6]);

@@ -55,7 +55,25 @@ fn all_options() -> Vec<(&'static str, SolverOptions)> {
         max_iter: 500,
         ..SolverOptions::default()
     };
-    vec![("exact", exact), ("adaptive", adaptive), ("l-bfgs", lbfgs)]
+    let adaptive_pd = SolverOptions {
+        mu_strategy: MuStrategy::Adaptive,
+        mu_pd_globalisation: true,
+        ..SolverOptions::default()
+    };
+    let lbfgs_pd = SolverOptions {
+        hessian: HessianMode::LimitedMemory { history: 6 },
+        max_iter: 500,
+        mu_strategy: MuStrategy::Adaptive,
+        mu_pd_globalisation: true,
+        ..SolverOptions::default()
+    };
+    vec![
+        ("exact", exact),
+        ("adaptive", adaptive),
+        ("adaptive-pd", adaptive_pd),
+        ("l-bfgs", lbfgs),
+        ("l-bfgs-adaptive-pd", lbfgs_pd),
+    ]
 }
 
 #[test]
