@@ -959,7 +959,7 @@ pub fn solve(
         let correction = match &lbfgs {
             Some(lb) if !lb.is_empty() => {
                 let t_lin = Instant::now();
-                let c = LowRankCorrection::new(lb, n, dim, |v| linear.solve(v).is_ok());
+                let c = LowRankCorrection::new(lb, n, dim, |v, k| linear.solve_many(v, k).is_ok());
                 lin_time += t_lin.elapsed();
                 c
             }
@@ -1368,7 +1368,16 @@ pub fn solve(
                 .zip(&prev_grad_lag)
                 .map(|(a, b)| a - b)
                 .collect();
-            lb.update(&s_vec, &y_vec);
+            let kept = lb.update(&s_vec, &y_vec);
+            if debug {
+                eprintln!(
+                    "    l-bfgs: pair {} ({} stored, sigma {:.3e}, s'y {:.3e})",
+                    if kept { "kept" } else { "skipped" },
+                    lb.len(),
+                    lb.sigma,
+                    dot(&s_vec, &y_vec)
+                );
+            }
         }
         iter += 1;
         last_rec = IterationRecord {

@@ -141,23 +141,23 @@ pub struct LowRankCorrection {
 }
 
 impl LowRankCorrection {
-    /// Prepares the correction: `solve0` solves with K₀ in place (dimension `dim`).
+    /// Prepares the correction: `solve0(cols, ncols)` solves with K₀ in place for `ncols`
+    /// column-major right-hand sides of dimension `dim`.
     pub fn new(
         lb: &Lbfgs,
         n: usize,
         dim: usize,
-        mut solve0: impl FnMut(&mut [f64]) -> bool,
+        solve0: impl FnOnce(&mut [f64], usize) -> bool,
     ) -> Option<Self> {
         let d = 2 * lb.len();
         let mut w = vec![0.0; n * d];
         let mut z = vec![0.0; dim * d];
         for j in 0..d {
             lb.w_col(j, &mut w[j * n..(j + 1) * n]);
-            let zc = &mut z[j * dim..(j + 1) * dim];
-            zc[..n].copy_from_slice(&w[j * n..(j + 1) * n]);
-            if !solve0(zc) {
-                return None;
-            }
+            z[j * dim..j * dim + n].copy_from_slice(&w[j * n..(j + 1) * n]);
+        }
+        if !solve0(&mut z, d) {
+            return None;
         }
         let mut cap = lb.middle();
         for i in 0..d {
