@@ -2,7 +2,8 @@
 //! `cargo run --release -p stride-ocp --example solve_nominal -- <N> <qr|di> [exact|lbfgs] [ipm|ipopt|ripopt]`
 //! Environment: `STRIDE_PRINT` (print level, default 2), `STRIDE_MAX_ITER` (default 3000),
 //! `STRIDE_MU=monotone` (monotone instead of adaptive barrier update) or `STRIDE_MU=pd`
-//! (adaptive with `SolverOptions::mu_pd_globalisation`), `STRIDE_KKT=ldlt|lblt`.
+//! (adaptive with `SolverOptions::mu_pd_globalisation`), `STRIDE_MU_SAFEGUARD` (factor;
+//! default by Hessian mode), `STRIDE_KKT=ldlt|lblt`.
 
 use std::ops::ControlFlow;
 use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
@@ -45,6 +46,9 @@ fn main() {
             stride_solve::solver::MuStrategy::Adaptive
         },
         mu_pd_globalisation: std::env::var("STRIDE_MU").as_deref() == Ok("pd"),
+        mu_safeguard: std::env::var("STRIDE_MU_SAFEGUARD")
+            .ok()
+            .and_then(|v| v.parse().ok()),
         ..Default::default()
     };
     let backend = args.get(4).cloned().unwrap_or_else(|| "ipm".into());

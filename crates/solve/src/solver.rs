@@ -65,9 +65,10 @@ pub struct SolverOptions {
     /// Initial barrier parameter (default 0.1).
     pub mu_init: f64,
     /// Adaptive μ safeguard of the pure-Rust interior point: in free mode μ stays above
-    /// min(average complementarity, factor × max(scaled primal, dual infeasibility))
-    /// (default 0.01; 0 disables it; the IPOPT backend ignores it).
-    pub mu_safeguard: f64,
+    /// min(average complementarity, factor × max(scaled primal, dual infeasibility)).
+    /// None (default): 0.01 with the exact Hessian, 0 (off, IPOPT's default) with the
+    /// limited-memory Hessian (decision 0002); the IPOPT backend ignores it.
+    pub mu_safeguard: Option<f64>,
     /// Adaptive μ globalisation of the pure-Rust interior point as in IPOPT's `kkt-error`:
     /// progress measured by the mean squared primal-dual error, and fixed mode left as soon
     /// as progress is made again (default false: scaled max-norm error, and fixed mode kept
@@ -81,6 +82,16 @@ pub struct SolverOptions {
     pub bound_push: f64,
     /// Threads the solver may use for its own linear algebra (0 = library default).
     pub threads: usize,
+}
+
+impl SolverOptions {
+    /// The μ safeguard factor in effect: the one set, or the default of the Hessian mode.
+    pub fn mu_safeguard_factor(&self) -> f64 {
+        self.mu_safeguard.unwrap_or(match self.hessian {
+            HessianMode::Exact => 0.01,
+            HessianMode::LimitedMemory { .. } => 0.0,
+        })
+    }
 }
 
 impl Default for SolverOptions {
@@ -98,7 +109,7 @@ impl Default for SolverOptions {
             compl_inf_tol: 1e-4,
             mu_strategy: MuStrategy::Monotone,
             mu_init: 0.1,
-            mu_safeguard: 0.01,
+            mu_safeguard: None,
             mu_pd_globalisation: false,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,

@@ -1084,7 +1084,7 @@ pub fn solve(
                 // and the multipliers run away (quasi-random gait guess); keep μ in
                 // proportion to the remaining infeasibility, never above the average
                 // complementarity
-                let lower = (options.mu_safeguard * (inf_du / s_d).max(inf_pr)).min(avg);
+                let lower = (options.mu_safeguard_factor() * (inf_du / s_d).max(inf_pr)).min(avg);
                 mu = (sig * avg).max(lower).clamp(mu_floor, 1e5);
             } else {
                 mu = mu_floor;
@@ -1472,7 +1472,7 @@ fn check_options(o: &SolverOptions) -> Result<(), SolveError> {
     if o.mu_init.is_nan() || o.mu_init <= 0.0 {
         return bad("mu_init", "must be positive");
     }
-    if o.mu_safeguard.is_nan() || o.mu_safeguard < 0.0 {
+    if o.mu_safeguard.is_some_and(|f| f.is_nan() || f < 0.0) {
         return bad("mu_safeguard", "must be non-negative");
     }
     if o.bound_push.is_nan() || o.bound_push <= 0.0 || o.bound_push >= 0.5 {
