@@ -614,6 +614,17 @@ pub fn solve(
         HessianMode::LimitedMemory { history } => Some(Lbfgs::new(history)),
         HessianMode::Exact => None,
     };
+    // L-BFGS works in the space of the variables that appear nonlinearly (a nonzero
+    // Hessian row or column), as IPOPT's `hessian_approximation_space = nonlinear-variables`
+    // with the list CasADi passes: linear variables get no B₀ = σI curvature.
+    let nonlinear: Vec<bool> = {
+        let mut nl = vec![false; n];
+        for k in 0..prob.hess.nnz() {
+            nl[prob.hess.rows[k]] = true;
+            nl[prob.hess.cols[k]] = true;
+        }
+        nl
+    };
     let mut prev_x = vec![0.0; n];
     let mut prev_grad_lag = vec![0.0; n];
     let mut tmp_n = vec![0.0; n];
@@ -911,8 +922,10 @@ pub fn solve(
             for j in 0..n {
                 diag_x[j] = if fixed_x[j] {
                     FIXED_DIAG
-                } else {
+                } else if nonlinear[j] {
                     sigma[j] + delta_w + b0
+                } else {
+                    sigma[j] + delta_w
                 };
             }
             pattern.assemble(&mut kvals, &st.hv, &st.jv, &diag_x, &d_c);
@@ -1362,11 +1375,23 @@ pub fn solve(
             for k in 0..st.jv.len() {
                 tmp_n[prob.jac.cols[k]] += st.jv[k] * st.lam[prob.jac.rows[k]];
             }
-            let s_vec: Vec<f64> = x_new.iter().zip(&prev_x).map(|(a, b)| a - b).collect();
-            let y_vec: Vec<f64> = tmp_n
-                .iter()
-                .zip(&prev_grad_lag)
-                .map(|(a, b)| a - b)
+            let s_vec: Vec<f64> = (0..n)
+                .map(|j| {
+                    if nonlinear[j] {
+                        x_new[j] - prev_x[j]
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let y_vec: Vec<f64> = (0..n)
+                .map(|j| {
+                    if nonlinear[j] {
+                        tmp_n[j] - prev_grad_lag[j]
+                    } else {
+                        0.0
+                    }
+                })
                 .collect();
             let kept = lb.update(&s_vec, &y_vec);
             if debug {
