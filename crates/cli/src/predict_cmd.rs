@@ -33,7 +33,7 @@ pub struct PredictArgs {
     /// Solver backend: ipm (pure Rust, default) or ipopt (needs the `ipopt` feature).
     #[arg(long)]
     pub solver: Option<String>,
-    /// Hessian: exact or limited-memory.
+    /// Hessian: limited-memory (default) or exact.
     #[arg(long)]
     pub hessian: Option<String>,
     /// Convergence tolerance.
@@ -105,11 +105,13 @@ pub(crate) fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
     }
 }
 
-/// The Hessian mode named on the command line or in a study file (default exact).
+/// The Hessian mode named on the command line or in a study file. Default limited-memory
+/// (L-BFGS, 6 pairs), the paper's choice: with the exact Hessian the pure-Rust solver stalls
+/// from 20 mesh intervals on, with L-BFGS it reaches f ≈ 309–371 at 50 (decision 0002).
 pub(crate) fn parse_hessian(name: Option<&str>) -> anyhow::Result<HessianMode> {
     match name.map(str::trim) {
-        None | Some("exact") => Ok(HessianMode::Exact),
-        Some("limited-memory") => Ok(HessianMode::LimitedMemory { history: 6 }),
+        None | Some("limited-memory") => Ok(HessianMode::LimitedMemory { history: 6 }),
+        Some("exact") => Ok(HessianMode::Exact),
         Some(other) => bail!("unknown hessian `{other}` (exact, limited-memory)"),
     }
 }

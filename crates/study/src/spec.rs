@@ -53,7 +53,7 @@ pub enum SpecError {
 pub struct SolverSpec {
     /// Backend name (`ipm`, `ipopt`).
     pub backend: Option<String>,
-    /// Hessian: `exact` or `limited-memory`.
+    /// Hessian: `limited-memory` (default) or `exact`.
     pub hessian: Option<String>,
     /// Convergence tolerance.
     pub tol: Option<f64>,
