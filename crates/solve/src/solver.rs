@@ -74,6 +74,11 @@ pub struct SolverOptions {
     /// as progress is made again (default false: scaled max-norm error, and fixed mode kept
     /// until its barrier problem is solved; the IPOPT backend ignores it).
     pub mu_pd_globalisation: bool,
+    /// Soft restoration of the pure-Rust interior point (IPOPT): when the filter line search
+    /// fails, first accept the primal-dual step to the fraction-to-boundary limits if it
+    /// reduces the barrier problem's primal-dual error (default true; the IPOPT backend
+    /// ignores it).
+    pub soft_restoration: bool,
     /// Apply gradient-based NLP scaling (IPOPT default).
     pub nlp_scaling: bool,
     /// Largest gradient entry after scaling (IPOPT `nlp_scaling_max_gradient`, 100).
@@ -111,6 +116,7 @@ impl Default for SolverOptions {
             mu_init: 0.1,
             mu_safeguard: None,
             mu_pd_globalisation: false,
+            soft_restoration: true,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
             bound_push: 1e-2,

@@ -64,6 +64,7 @@ const CONSTR_MULT_INIT_MAX: f64 = 1000.0;
 const DELTA_C: f64 = 1e-9;
 
 /// Iterate and workspace of one solve.
+#[derive(Clone)]
 struct State {
     n: usize,
     m: usize,
@@ -135,6 +136,39 @@ impl State {
             }
         }
         e
+    }
+
+    /// Primal-dual error of the barrier problem at μ (IPOPT's `curr_primal_dual_system_error`
+    /// in the mean-squared form): ‖r‖²/m + ‖∇L‖²/N + mean of (z (w − bound) − μ)², with the
+    /// Lagrangian gradient `gl` (bound multipliers included) and residual `r` given.
+    fn pd_barrier_error(&self, gl: &[f64], r: &[f64], mu: f64) -> f64 {
+        let pr = r.iter().map(|v| v * v).sum::<f64>() / self.m.max(1) as f64;
+        let du = gl.iter().map(|v| v * v).sum::<f64>() / self.big_n.max(1) as f64;
+        let (mut cs, mut cnt) = (0.0, 0usize);
+        for j in 0..self.big_n {
+            if self.has_l[j] {
+                cs += ((self.w[j] - self.wl[j]) * self.zl[j] - mu).powi(2);
+                cnt += 1;
+            }
+            if self.has_u[j] {
+                cs += ((self.wu[j] - self.w[j]) * self.zu[j] - mu).powi(2);
+                cnt += 1;
+            }
+        }
+        pr + du + if cnt == 0 { 0.0 } else { cs / cnt as f64 }
+    }
+
+    /// ∇L over w with the bound multipliers, fixed variables zeroed.
+    fn grad_lag(&self, jac_rows: &[usize], jac_cols: &[usize], fixed_x: &[bool], out: &mut [f64]) {
+        self.grad_lag_no_z(jac_rows, jac_cols, out);
+        for j in 0..self.big_n {
+            out[j] += self.zu[j] - self.zl[j];
+        }
+        for (o, &f) in out[..self.n].iter_mut().zip(fixed_x) {
+            if f {
+                *o = 0.0;
+            }
+        }
     }
 
     /// Mean squared complementarity (z_L (w − w_L))², (z_U (w_U − w))² over all bounds.
@@ -636,6 +670,7 @@ pub fn solve(
     let d_c_reg_buf = vec![delta_c; m];
     let mut factorizations = 0usize;
     let mut restorations = 0usize;
+    let mut soft_steps = 0usize;
     let zero_h = vec![0.0; prob.hess.nnz()];
 
     // ---- least-squares constraint multipliers (IPOPT's initialisation) -------------------
@@ -1250,6 +1285,52 @@ pub fn solve(
         }
         bound_multiplier_steps(&st, mu, &dw, &mut dzl, &mut dzu);
         let mut alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
+        // ---- soft restoration (IPOPT): before the feasibility restoration, take the
+        // primal-dual step to the fraction-to-boundary limits if it reduces the primal-dual
+        // error of the barrier problem by a factor 1 − 1e-4. Near a solution the filter can
+        // reject every trial step of an inexact (quasi-Newton) direction although the step
+        // improves optimality, and the feasibility restoration would discard the multipliers.
+        if !accepted && options.soft_restoration {
+            let a = alpha_max.min(alpha_z);
+            let mut gl_s = vec![0.0; big_n];
+            let mut r_s0 = vec![0.0; m];
+            st.residual(&st.w, &st.c, &mut r_s0);
+            st.grad_lag(&prob.jac.rows, &prob.jac.cols, &fixed_x, &mut gl_s);
+            let err_now = st.pd_barrier_error(&gl_s, &r_s0, mu);
+            let mut trial = st.clone();
+            for j in 0..big_n {
+                trial.w[j] = st.w[j] + a * dw[j];
+                trial.zl[j] = st.zl[j] + a * dzl[j];
+                trial.zu[j] = st.zu[j] + a * dzu[j];
+            }
+            for i in 0..m {
+                trial.lam[i] = st.lam[i] + a * dlam[i];
+            }
+            let xt = trial.w[..n].to_vec();
+            let ev = prob.objective(&xt).and_then(|f| {
+                prob.constraints(&xt, &mut trial.c)?;
+                prob.gradient(&xt, &mut trial.grad)?;
+                prob.jacobian(&xt, &mut trial.jv)?;
+                Ok(f)
+            });
+            if let Ok(f) = ev {
+                trial.residual(&trial.w, &trial.c, &mut r_s0);
+                trial.grad_lag(&prob.jac.rows, &prob.jac.cols, &fixed_x, &mut gl_s);
+                let err_trial = trial.pd_barrier_error(&gl_s, &r_s0, mu);
+                if debug {
+                    eprintln!("    soft restoration: error {err_now:.3e} -> {err_trial:.3e} (alpha {a:.2e})");
+                }
+                if err_trial.is_finite() && err_trial <= (1.0 - 1e-4) * err_now {
+                    wt.copy_from_slice(&trial.w);
+                    ct.copy_from_slice(&trial.c);
+                    f_t = f;
+                    alpha = a;
+                    alpha_z = a;
+                    accepted = true;
+                    soft_steps += 1;
+                }
+            }
+        }
         if accepted {
             ls_failures = 0;
         } else {
@@ -1470,10 +1551,11 @@ pub fn solve(
     };
     if options.print_level >= 1 {
         eprintln!(
-            "stride-ipm: {:?} after {} iterations ({} restorations), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s)",
+            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s)",
             result.status,
             result.iterations,
             restorations,
+            soft_steps,
             result.objective,
             result.constraint_violation,
             result.time_total.as_secs_f64(),
