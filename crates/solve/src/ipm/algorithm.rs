@@ -144,18 +144,7 @@ impl State {
     fn pd_barrier_error(&self, gl: &[f64], r: &[f64], mu: f64) -> f64 {
         let pr = r.iter().map(|v| v * v).sum::<f64>() / self.m.max(1) as f64;
         let du = gl.iter().map(|v| v * v).sum::<f64>() / self.big_n.max(1) as f64;
-        let (mut cs, mut cnt) = (0.0, 0usize);
-        for j in 0..self.big_n {
-            if self.has_l[j] {
-                cs += ((self.w[j] - self.wl[j]) * self.zl[j] - mu).powi(2);
-                cnt += 1;
-            }
-            if self.has_u[j] {
-                cs += ((self.wu[j] - self.w[j]) * self.zu[j] - mu).powi(2);
-                cnt += 1;
-            }
-        }
-        pr + du + if cnt == 0 { 0.0 } else { cs / cnt as f64 }
+        pr + du + self.mean_squared_complementarity(mu)
     }
 
     /// ∇L over w with the bound multipliers, fixed variables zeroed.
@@ -171,16 +160,17 @@ impl State {
         }
     }
 
-    /// Mean squared complementarity (z_L (w − w_L))², (z_U (w_U − w))² over all bounds.
-    fn mean_squared_complementarity(&self) -> f64 {
+    /// Mean squared shifted complementarity (z_L (w − w_L) − μ)², (z_U (w_U − w) − μ)² over
+    /// all bounds.
+    fn mean_squared_complementarity(&self, mu: f64) -> f64 {
         let (mut s, mut cnt) = (0.0, 0usize);
         for j in 0..self.big_n {
             if self.has_l[j] {
-                s += ((self.w[j] - self.wl[j]) * self.zl[j]).powi(2);
+                s += ((self.w[j] - self.wl[j]) * self.zl[j] - mu).powi(2);
                 cnt += 1;
             }
             if self.has_u[j] {
-                s += ((self.wu[j] - self.w[j]) * self.zu[j]).powi(2);
+                s += ((self.wu[j] - self.w[j]) * self.zu[j] - mu).powi(2);
                 cnt += 1;
             }
         }
@@ -884,7 +874,7 @@ pub fn solve(
         let pd_error = if want_adaptive && pd {
             let pr = r.iter().map(|v| v * v).sum::<f64>() / m.max(1) as f64;
             let du = gl.iter().map(|v| v * v).sum::<f64>() / big_n.max(1) as f64;
-            pr + du + st.mean_squared_complementarity()
+            pr + du + st.mean_squared_complementarity(0.0)
         } else {
             err0
         };
@@ -1456,24 +1446,14 @@ pub fn solve(
             for k in 0..st.jv.len() {
                 tmp_n[prob.jac.cols[k]] += st.jv[k] * st.lam[prob.jac.rows[k]];
             }
-            let s_vec: Vec<f64> = (0..n)
-                .map(|j| {
-                    if nonlinear[j] {
-                        x_new[j] - prev_x[j]
-                    } else {
-                        0.0
-                    }
-                })
-                .collect();
-            let y_vec: Vec<f64> = (0..n)
-                .map(|j| {
-                    if nonlinear[j] {
-                        tmp_n[j] - prev_grad_lag[j]
-                    } else {
-                        0.0
-                    }
-                })
-                .collect();
+            // differences restricted to the nonlinear variables
+            let masked_diff = |a: &[f64], b: &[f64]| -> Vec<f64> {
+                (0..n)
+                    .map(|j| if nonlinear[j] { a[j] - b[j] } else { 0.0 })
+                    .collect()
+            };
+            let s_vec = masked_diff(&x_new, &prev_x);
+            let y_vec = masked_diff(&tmp_n, &prev_grad_lag);
             let kept = lb.update(&s_vec, &y_vec);
             if debug {
                 eprintln!(

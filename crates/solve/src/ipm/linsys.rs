@@ -88,7 +88,7 @@ pub struct FaerLdlt {
     symbolic: Option<SymbolicCholesky<usize>>,
     l_values: Vec<f64>,
     buffer: MemBuffer,
-    /// Scratch for multi-column solves, and the column count it was sized for.
+    /// Scratch for solves, and the column count it was sized for.
     multi_buffer: (MemBuffer, usize),
     factored: bool,
 }
@@ -184,11 +184,11 @@ impl KktSolver for FaerLdlt {
         )
         .map_err(|e| LinearSolverError::Symbolic(format!("{e:?}")))?;
         self.l_values = vec![0.0; sym.len_val()];
-        let req = StackReq::any_of(&[
+        self.buffer = MemBuffer::new(
             sym.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Spec::<LdltParams, f64>::default()),
-            sym.solve_in_place_scratch::<f64>(1, Par::Seq),
-        ]);
-        self.buffer = MemBuffer::new(req);
+        );
+        // solve scratch depends on the pattern: sized again on the next solve
+        self.multi_buffer = (MemBuffer::new(StackReq::empty()), 0);
         self.symbolic = Some(sym);
         self.factored = false;
         Ok(())
@@ -244,19 +244,7 @@ impl KktSolver for FaerLdlt {
     }
 
     fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearSolverError> {
-        if !self.factored {
-            return Err(LinearSolverError::NotReady("a successful factorisation"));
-        }
-        let sym = self
-            .symbolic
-            .as_ref()
-            .ok_or(LinearSolverError::NotReady("analyse"))?;
-        let l = LdltRef::new(sym, &self.l_values);
-        let n = rhs.len();
-        let mat = MatMut::from_column_major_slice_mut(rhs, n, 1);
-        let stack = MemStack::new(&mut self.buffer);
-        l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
-        Ok(())
+        self.solve_many(rhs, 1)
     }
 
     fn solve_many(&mut self, rhs: &mut [f64], ncols: usize) -> Result<(), LinearSolverError> {
