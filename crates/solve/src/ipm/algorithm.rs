@@ -652,6 +652,8 @@ pub fn solve(
     let mut prev_x = vec![0.0; n];
     let mut prev_grad_lag = vec![0.0; n];
     let mut tmp_n = vec![0.0; n];
+    // L-BFGS pair (s, y) of the last step, restricted to the nonlinear variables
+    let (mut s_pair, mut y_pair) = (vec![0.0; n], vec![0.0; n]);
     let delta_c = DELTA_C;
     let debug = options.print_level >= 3;
     let mut b_save_buf = vec![0.0; dim];
@@ -738,15 +740,7 @@ pub fn solve(
     loop {
         // ---- optimality error --------------------------------------------------------------
         st.residual(&st.w, &st.c, &mut r);
-        st.grad_lag_no_z(&prob.jac.rows, &prob.jac.cols, &mut gl);
-        for j in 0..big_n {
-            gl[j] += st.zu[j] - st.zl[j];
-        }
-        for j in 0..n {
-            if fixed_x[j] {
-                gl[j] = 0.0;
-            }
-        }
+        st.grad_lag(&prob.jac.rows, &prob.jac.cols, &fixed_x, &mut gl);
         let inf_du = inf_norm(&gl);
         if debug {
             let (jg, _) = gl.iter().enumerate().fold((0, 0.0f64), |(bj, bv), (j, v)| {
@@ -872,9 +866,7 @@ pub fn solve(
         // barrier problem before probing resumes.
         let pd = options.mu_pd_globalisation;
         let pd_error = if want_adaptive && pd {
-            let pr = r.iter().map(|v| v * v).sum::<f64>() / m.max(1) as f64;
-            let du = gl.iter().map(|v| v * v).sum::<f64>() / big_n.max(1) as f64;
-            pr + du + st.mean_squared_complementarity(0.0)
+            st.pd_barrier_error(&gl, &r, 0.0)
         } else {
             err0
         };
@@ -1282,12 +1274,13 @@ pub fn solve(
         // improves optimality, and the feasibility restoration would discard the multipliers.
         if !accepted && options.soft_restoration {
             let a = alpha_max.min(alpha_z);
-            let mut gl_s = vec![0.0; big_n];
-            let mut r_s0 = vec![0.0; m];
-            st.residual(&st.w, &st.c, &mut r_s0);
-            st.grad_lag(&prob.jac.rows, &prob.jac.cols, &fixed_x, &mut gl_s);
-            let err_now = st.pd_barrier_error(&gl_s, &r_s0, mu);
+            // r and gl still hold the residual and Lagrangian gradient of the current point
+            let err_now = st.pd_barrier_error(&gl, &r, mu);
+            // the trial iterate needs no Hessian values: leave them out of the copy
+            let hv = std::mem::take(&mut st.hv);
             let mut trial = st.clone();
+            st.hv = hv;
+            let mut gl_t = vec![0.0; big_n];
             for j in 0..big_n {
                 trial.w[j] = st.w[j] + a * dw[j];
                 trial.zl[j] = st.zl[j] + a * dzl[j];
@@ -1304,9 +1297,9 @@ pub fn solve(
                 Ok(f)
             });
             if let Ok(f) = ev {
-                trial.residual(&trial.w, &trial.c, &mut r_s0);
-                trial.grad_lag(&prob.jac.rows, &prob.jac.cols, &fixed_x, &mut gl_s);
-                let err_trial = trial.pd_barrier_error(&gl_s, &r_s0, mu);
+                trial.residual(&trial.w, &trial.c, &mut rt);
+                trial.grad_lag(&prob.jac.rows, &prob.jac.cols, &fixed_x, &mut gl_t);
+                let err_trial = trial.pd_barrier_error(&gl_t, &rt, mu);
                 if debug {
                     eprintln!("    soft restoration: error {err_now:.3e} -> {err_trial:.3e} (alpha {a:.2e})");
                 }
@@ -1446,22 +1439,21 @@ pub fn solve(
             for k in 0..st.jv.len() {
                 tmp_n[prob.jac.cols[k]] += st.jv[k] * st.lam[prob.jac.rows[k]];
             }
-            // differences restricted to the nonlinear variables
-            let masked_diff = |a: &[f64], b: &[f64]| -> Vec<f64> {
-                (0..n)
-                    .map(|j| if nonlinear[j] { a[j] - b[j] } else { 0.0 })
-                    .collect()
-            };
-            let s_vec = masked_diff(&x_new, &prev_x);
-            let y_vec = masked_diff(&tmp_n, &prev_grad_lag);
-            let kept = lb.update(&s_vec, &y_vec);
+            for j in 0..n {
+                (s_pair[j], y_pair[j]) = if nonlinear[j] {
+                    (x_new[j] - prev_x[j], tmp_n[j] - prev_grad_lag[j])
+                } else {
+                    (0.0, 0.0)
+                };
+            }
+            let kept = lb.update(&s_pair, &y_pair);
             if debug {
                 eprintln!(
                     "    l-bfgs: pair {} ({} stored, sigma {:.3e}, s'y {:.3e})",
                     if kept { "kept" } else { "skipped" },
                     lb.len(),
                     lb.sigma,
-                    dot(&s_vec, &y_vec)
+                    dot(&s_pair, &y_pair)
                 );
             }
         }
@@ -1494,15 +1486,7 @@ pub fn solve(
     } else {
         constraint_violation
     };
-    st.grad_lag_no_z(&prob.jac.rows, &prob.jac.cols, &mut gl);
-    for j in 0..big_n {
-        gl[j] += st.zu[j] - st.zl[j];
-    }
-    for j in 0..n {
-        if fixed_x[j] {
-            gl[j] = 0.0;
-        }
-    }
+    st.grad_lag(&prob.jac.rows, &prob.jac.cols, &fixed_x, &mut gl);
     let dual_infeasibility = inf_norm(&gl[..n]) / prob.obj_scale;
     let sf = prob.obj_scale;
     let lambda: Vec<f64> = st

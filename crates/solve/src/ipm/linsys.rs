@@ -87,9 +87,10 @@ pub struct FaerLdlt {
     row_idx: Vec<usize>,
     symbolic: Option<SymbolicCholesky<usize>>,
     l_values: Vec<f64>,
+    /// Scratch for the numeric factorisation.
     buffer: MemBuffer,
     /// Scratch for solves, and the column count it was sized for.
-    multi_buffer: (MemBuffer, usize),
+    solve_buffer: (MemBuffer, usize),
     factored: bool,
 }
 
@@ -102,7 +103,7 @@ impl Default for FaerLdlt {
             symbolic: None,
             l_values: Vec::new(),
             buffer: MemBuffer::new(StackReq::empty()),
-            multi_buffer: (MemBuffer::new(StackReq::empty()), 0),
+            solve_buffer: (MemBuffer::new(StackReq::empty()), 0),
             factored: false,
         }
     }
@@ -188,7 +189,7 @@ impl KktSolver for FaerLdlt {
             sym.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Spec::<LdltParams, f64>::default()),
         );
         // solve scratch depends on the pattern: sized again on the next solve
-        self.multi_buffer = (MemBuffer::new(StackReq::empty()), 0);
+        self.solve_buffer = (MemBuffer::new(StackReq::empty()), 0);
         self.symbolic = Some(sym);
         self.factored = false;
         Ok(())
@@ -258,8 +259,8 @@ impl KktSolver for FaerLdlt {
             .symbolic
             .as_ref()
             .ok_or(LinearSolverError::NotReady("analyse"))?;
-        if self.multi_buffer.1 < ncols {
-            self.multi_buffer = (
+        if self.solve_buffer.1 < ncols {
+            self.solve_buffer = (
                 MemBuffer::new(sym.solve_in_place_scratch::<f64>(ncols, Par::Seq)),
                 ncols,
             );
@@ -268,7 +269,7 @@ impl KktSolver for FaerLdlt {
         // pass per column; the factor of the 50-interval gait KKT is 24.5 M entries.
         let l = LdltRef::new(sym, &self.l_values);
         let mat = MatMut::from_column_major_slice_mut(rhs, self.dim, ncols);
-        let stack = MemStack::new(&mut self.multi_buffer.0);
+        let stack = MemStack::new(&mut self.solve_buffer.0);
         l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
         Ok(())
     }
