@@ -49,6 +49,10 @@ fn main() {
         mu_safeguard: std::env::var("STRIDE_MU_SAFEGUARD")
             .ok()
             .and_then(|v| v.parse().ok()),
+        watchdog_trigger: std::env::var("STRIDE_WATCHDOG")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(10),
         ..Default::default()
     };
     let backend = args.get(4).cloned().unwrap_or_else(|| "ipm".into());

@@ -79,6 +79,11 @@ pub struct SolverOptions {
     /// reduces the barrier problem's primal-dual error (default true; the IPOPT backend
     /// ignores it).
     pub soft_restoration: bool,
+    /// Watchdog of the pure-Rust interior point (IPOPT `watchdog_shortened_iter_trigger`):
+    /// after this many consecutive shortened steps, take up to 3 full steps judged against
+    /// the point where the watchdog started, and return there if none is acceptable
+    /// (default 10; 0 disables it; the IPOPT backend ignores it).
+    pub watchdog_trigger: usize,
     /// Apply gradient-based NLP scaling (IPOPT default).
     pub nlp_scaling: bool,
     /// Largest gradient entry after scaling (IPOPT `nlp_scaling_max_gradient`, 100).
@@ -117,6 +122,7 @@ impl Default for SolverOptions {
             mu_safeguard: None,
             mu_pd_globalisation: false,
             soft_restoration: true,
+            watchdog_trigger: 10,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
             bound_push: 1e-2,

@@ -63,6 +63,66 @@ const CONSTR_MULT_INIT_MAX: f64 = 1000.0;
 /// Constant regularisation of the constraint block (quasi-definiteness).
 const DELTA_C: f64 = 1e-9;
 
+/// Full steps the watchdog takes before it returns to its starting point (IPOPT
+/// `watchdog_trial_iter_max`).
+const WATCHDOG_TRIAL_MAX: usize = 3;
+
+/// Reference values of the filter line search at the point a step starts from: constraint
+/// violation θ (1-norm, scaled), barrier objective φ and its directional derivative ∇φᵀd.
+#[derive(Clone, Copy)]
+struct LsReference {
+    theta: f64,
+    phi: f64,
+    gphi_d: f64,
+}
+
+impl LsReference {
+    /// Filter acceptance of a trial point (θ, φ) at step size α (Wächter & Biegler 2006):
+    /// None if rejected, else Some(whether the step passed the Armijo test of the
+    /// switching condition, in which case the filter is not augmented).
+    fn accepts(
+        &self,
+        alpha: f64,
+        theta: f64,
+        phi: f64,
+        filter: &[(f64, f64)],
+        theta_min: f64,
+        theta_max: f64,
+    ) -> Option<bool> {
+        if !phi.is_finite() || theta > theta_max {
+            return None;
+        }
+        if filter.iter().any(|&(ft, fp)| theta >= ft && phi >= fp) {
+            return None;
+        }
+        let switching = self.gphi_d < 0.0
+            && alpha * (-self.gphi_d).powf(S_PHI) > SWITCH_DELTA * self.theta.powf(S_THETA);
+        let armijo = phi <= self.phi + ETA_PHI * alpha * self.gphi_d;
+        if switching && self.theta <= theta_min {
+            return armijo.then_some(true);
+        }
+        if theta <= (1.0 - GAMMA_THETA) * self.theta || phi <= self.phi - GAMMA_PHI * self.theta {
+            Some(switching && armijo)
+        } else {
+            None
+        }
+    }
+}
+
+/// What the watchdog keeps from the iteration where it started: the iterate, its search
+/// direction and line-search references, so that it can return there.
+struct Watchdog {
+    st: State,
+    dw: Vec<f64>,
+    dlam: Vec<f64>,
+    reference: LsReference,
+    alpha_max: f64,
+    alpha_min: f64,
+    mu: f64,
+    /// full steps taken so far without one acceptable to the watchdog's references
+    trials: usize,
+}
+
 /// Iterate and workspace of one solve.
 #[derive(Clone)]
 struct State {
@@ -663,6 +723,10 @@ pub fn solve(
     let mut factorizations = 0usize;
     let mut restorations = 0usize;
     let mut soft_steps = 0usize;
+    let mut watchdog: Option<Watchdog> = None;
+    let mut shortened_steps = 0usize;
+    let mut watchdog_starts = 0usize;
+    let mut watchdog_returns = 0usize;
     let zero_h = vec![0.0; prob.hess.nnz()];
 
     // ---- least-squares constraint multipliers (IPOPT's initialisation) -------------------
@@ -1122,7 +1186,7 @@ pub fn solve(
         }
         tau = (1.0 - mu).max(0.99);
         direction(&st, mu, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
-        let alpha_max = fraction_to_boundary(&st, &st.w, &dw, tau);
+        let mut alpha_max = fraction_to_boundary(&st, &st.w, &dw, tau);
 
         // ---- filter line search with second-order correction (Wächter & Biegler 2006) -------
         let theta0 = one_norm(&r);
@@ -1136,7 +1200,7 @@ pub fn solve(
         }
         let phi0 = st.barrier(st.f, &st.w, mu);
         let gphi_d = barrier_directional_derivative(&st, mu, &dw);
-        let alpha_min = if gphi_d < 0.0 {
+        let mut alpha_min = if gphi_d < 0.0 {
             GAMMA_ALPHA
                 * GAMMA_THETA
                     .min(GAMMA_PHI * theta0 / -gphi_d)
@@ -1144,37 +1208,114 @@ pub fn solve(
         } else {
             GAMMA_ALPHA * GAMMA_THETA
         };
-        // Acceptance test of a trial point (θ, φ) for the step size α of the search direction;
-        // returns Some(armijo_step) when acceptable.
-        let acceptable =
-            |alpha: f64, theta: f64, phi: f64, filter: &[(f64, f64)]| -> Option<bool> {
-                if !phi.is_finite() || theta > theta_max {
-                    return None;
-                }
-                if filter.iter().any(|&(ft, fp)| theta >= ft && phi >= fp) {
-                    return None;
-                }
-                let switching = gphi_d < 0.0
-                    && alpha * (-gphi_d).powf(S_PHI) > SWITCH_DELTA * theta0.powf(S_THETA);
-                if switching && theta0 <= theta_min {
-                    return (phi <= phi0 + ETA_PHI * alpha * gphi_d).then_some(true);
-                }
-                if theta <= (1.0 - GAMMA_THETA) * theta0 || phi <= phi0 - GAMMA_PHI * theta0 {
-                    let armijo = switching && phi <= phi0 + ETA_PHI * alpha * gphi_d;
-                    Some(armijo)
-                } else {
-                    None
-                }
-            };
+        let mut reference = LsReference {
+            theta: theta0,
+            phi: phi0,
+            gphi_d,
+        };
         let mut alpha = alpha_max;
         let mut trials = 0usize;
         let mut accepted = false;
         tiny_step = false;
         let mut armijo_step = false;
         let mut f_t = st.f;
+        // ---- watchdog (IPOPT): after `watchdog_trigger` shortened steps in a row, take full
+        // steps, each accepted if the filter accepts it against the references of the
+        // watchdog's starting point, else taken anyway up to WATCHDOG_TRIAL_MAX times; then
+        // return to the starting point and backtrack along its direction from α_max / 2.
+        if watchdog.as_ref().is_some_and(|wd| wd.mu != mu) {
+            // the barrier problem changed: the stored references no longer apply
+            watchdog = None;
+        }
+        if watchdog.is_none()
+            && options.watchdog_trigger > 0
+            && shortened_steps >= options.watchdog_trigger
+        {
+            // the limited-memory mode's Hessian values are zeros: not stored
+            let hv_zero = (!exact).then(|| std::mem::take(&mut st.hv));
+            watchdog = Some(Watchdog {
+                st: st.clone(),
+                dw: dw.clone(),
+                dlam: dlam.clone(),
+                reference,
+                alpha_max,
+                alpha_min,
+                mu,
+                trials: 0,
+            });
+            if let Some(hv) = hv_zero {
+                st.hv = hv;
+            }
+            shortened_steps = 0;
+            watchdog_starts += 1;
+            if debug {
+                eprintln!("    watchdog started");
+            }
+        }
+        let mut watchdog_step = false;
+        if let Some(wd) = watchdog.as_mut() {
+            trials = 1;
+            for j in 0..big_n {
+                wt[j] = st.w[j] + alpha_max * dw[j];
+            }
+            let ev = prob
+                .objective(&wt[..n])
+                .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f));
+            let verdict = ev.as_ref().ok().map(|&f| {
+                st.residual(&wt, &ct, &mut rt);
+                let phi = st.barrier(f, &wt, mu);
+                (
+                    f,
+                    wd.reference.accepts(
+                        alpha_max,
+                        one_norm(&rt),
+                        phi,
+                        &filter,
+                        theta_min,
+                        theta_max,
+                    ),
+                )
+            });
+            match verdict {
+                Some((f, Some(a))) => {
+                    // progress against the starting point: the watchdog ends here
+                    f_t = f;
+                    accepted = true;
+                    armijo_step = a;
+                    reference = wd.reference;
+                    watchdog = None;
+                }
+                Some((f, None)) if wd.trials < WATCHDOG_TRIAL_MAX => {
+                    wd.trials += 1;
+                    f_t = f;
+                    accepted = true;
+                    watchdog_step = true;
+                }
+                _ => {
+                    // no acceptable full step: back to the starting point and its direction
+                    let wd = watchdog.take().expect("watchdog active");
+                    st = wd.st;
+                    if !exact {
+                        st.hv = vec![0.0; prob.hess.nnz()];
+                    }
+                    dw.copy_from_slice(&wd.dw);
+                    dlam.copy_from_slice(&wd.dlam);
+                    reference = wd.reference;
+                    alpha_max = wd.alpha_max;
+                    alpha_min = wd.alpha_min;
+                    st.residual(&st.w, &st.c, &mut r);
+                    st.grad_lag(&prob.jac.rows, &prob.jac.cols, &fixed_x, &mut gl);
+                    alpha = 0.5 * alpha_max;
+                    watchdog_returns += 1;
+                    if debug {
+                        eprintln!("    watchdog: back to its starting point");
+                    }
+                }
+            }
+        }
         let dnorm = inf_norm(&dw);
         let wnorm = inf_norm(&st.w).max(1.0);
-        loop {
+        while !accepted {
             trials += 1;
             for j in 0..big_n {
                 wt[j] = st.w[j] + alpha * dw[j];
@@ -1187,7 +1328,9 @@ pub fn solve(
                 st.residual(&wt, &ct, &mut rt);
                 theta_t = one_norm(&rt);
                 let phi = st.barrier(f, &wt, mu);
-                if let Some(a) = acceptable(alpha, theta_t, phi, &filter) {
+                if let Some(a) =
+                    reference.accepts(alpha, theta_t, phi, &filter, theta_min, theta_max)
+                {
                     f_t = f;
                     accepted = true;
                     armijo_step = a;
@@ -1203,7 +1346,8 @@ pub fn solve(
                 break;
             }
             // second-order correction after the first trial step was rejected for θ
-            if trials == 1 && theta_t.is_finite() && theta_t >= theta0 {
+            if trials == 1 && theta_t.is_finite() && theta_t >= reference.theta {
+                let theta0 = reference.theta;
                 let mut theta_old = theta0;
                 let mut theta_soc = theta_t;
                 for i in 0..m {
@@ -1235,7 +1379,9 @@ pub fn solve(
                     theta_old = theta_soc;
                     theta_soc = one_norm(&rt);
                     let phi = st.barrier(f, &wt, mu);
-                    if let Some(a) = acceptable(alpha_max, theta_soc, phi, &filter) {
+                    if let Some(a) =
+                        reference.accepts(alpha_max, theta_soc, phi, &filter, theta_min, theta_max)
+                    {
                         f_t = f;
                         armijo_step = a;
                         soc_ok = true;
@@ -1262,8 +1408,17 @@ pub fn solve(
                 break;
             }
         }
-        if accepted && !armijo_step {
-            filter.push(((1.0 - GAMMA_THETA) * theta0, phi0 - GAMMA_PHI * theta0));
+        if accepted && !armijo_step && !watchdog_step {
+            filter.push((
+                (1.0 - GAMMA_THETA) * reference.theta,
+                reference.phi - GAMMA_PHI * reference.theta,
+            ));
+        }
+        // a shortened step counts towards the watchdog trigger
+        if accepted && !tiny_step && alpha < alpha_max {
+            shortened_steps += 1;
+        } else {
+            shortened_steps = 0;
         }
         bound_multiplier_steps(&st, mu, &dw, &mut dzl, &mut dzu);
         let mut alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
@@ -1272,6 +1427,7 @@ pub fn solve(
         // error of the barrier problem by a factor 1 − 1e-4. Near a solution the filter can
         // reject every trial step of an inexact (quasi-Newton) direction although the step
         // improves optimality, and the feasibility restoration would discard the multipliers.
+        let mut soft_step = false;
         if !accepted && options.soft_restoration {
             let a = alpha_max.min(alpha_z);
             // r and gl still hold the residual and Lagrangian gradient of the current point
@@ -1310,9 +1466,15 @@ pub fn solve(
                     alpha = a;
                     alpha_z = a;
                     accepted = true;
+                    soft_step = true;
                     soft_steps += 1;
                 }
             }
+        }
+        if soft_step || !accepted {
+            // soft or feasibility restoration: the watchdog starts afresh
+            watchdog = None;
+            shortened_steps = 0;
         }
         if accepted {
             ls_failures = 0;
@@ -1515,11 +1677,13 @@ pub fn solve(
     };
     if options.print_level >= 1 {
         eprintln!(
-            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s)",
+            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps, watchdog {} started / {} returned), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s)",
             result.status,
             result.iterations,
             restorations,
             soft_steps,
+            watchdog_starts,
+            watchdog_returns,
             result.objective,
             result.constraint_violation,
             result.time_total.as_secs_f64(),

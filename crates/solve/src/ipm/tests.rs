@@ -67,8 +67,21 @@ fn all_options() -> Vec<(&'static str, SolverOptions)> {
         mu_pd_globalisation: true,
         ..SolverOptions::default()
     };
+    // the watchdog after every shortened step, to exercise its full steps and returns
+    let watchdog = SolverOptions {
+        watchdog_trigger: 1,
+        ..SolverOptions::default()
+    };
+    let lbfgs_watchdog = SolverOptions {
+        hessian: HessianMode::LimitedMemory { history: 6 },
+        max_iter: 500,
+        watchdog_trigger: 1,
+        ..SolverOptions::default()
+    };
     vec![
         ("exact", exact),
+        ("exact-watchdog-1", watchdog),
+        ("l-bfgs-watchdog-1", lbfgs_watchdog),
         ("adaptive", adaptive),
         ("adaptive-pd", adaptive_pd),
         ("l-bfgs", lbfgs),
