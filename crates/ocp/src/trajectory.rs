@@ -367,7 +367,8 @@ pub struct Outcomes {
     pub double_support_fraction: f64,
     /// Number of separate stance phases of the right foot over the cycle.
     pub stance_phases_right: usize,
-    /// Number of peaks of the right vertical ground reaction force in stance.
+    /// Number of peaks of the right vertical ground reaction force over the cycle: local
+    /// maxima above half body weight with a prominence of at least 5% body weight.
     pub vertical_grf_peaks_right: usize,
 }
 
@@ -453,12 +454,9 @@ impl GaitProblem {
             .filter(|&i| contact_r[i] && !contact_r[(i + ns - 1) % ns])
             .count();
         let vy: Vec<f64> = cycle.grf_right.iter().map(|f| f[1]).collect();
-        let peaks = (0..ns)
-            .filter(|&i| {
-                let (p, nx) = (vy[(i + ns - 1) % ns], vy[(i + 1) % ns]);
-                contact_r[i] && vy[i] > p && vy[i] >= nx && vy[i] > 0.5 * self.body_mass * GRAVITY
-            })
-            .count();
+        let weight = self.body_mass * GRAVITY;
+        let peaks =
+            prominent_peaks(&vy, PEAK_MIN_PROMINENCE * weight, PEAK_MIN_HEIGHT * weight).len();
         let cycle_duration = if self.is_half_cycle() {
             2.0 * m.duration
         } else {
@@ -481,9 +479,99 @@ impl GaitProblem {
     }
 }
 
+/// Smallest prominence of a counted ground reaction force peak [fraction of body weight]:
+/// ripples smaller than this are not separate peaks.
+pub const PEAK_MIN_PROMINENCE: f64 = 0.05;
+/// Smallest height of a counted ground reaction force peak [fraction of body weight].
+pub const PEAK_MIN_HEIGHT: f64 = 0.5;
+
+/// Indices of the peaks of a periodic signal (one cycle, last sample not repeating the
+/// first) that are at least `min_height` high and stand out by at least `min_prominence`:
+/// the drop to the higher of the two lowest points before a higher sample is reached on
+/// either side (topographic prominence; for the highest peak, the drop to the minimum).
+pub fn prominent_peaks(v: &[f64], min_prominence: f64, min_height: f64) -> Vec<usize> {
+    let n = v.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    // lowest value passed on the way from peak i in direction `step` (±1) until a strictly
+    // higher sample or a full turn
+    let valley = |i: usize, step: isize| -> f64 {
+        let mut low = v[i];
+        let mut k = i;
+        for _ in 1..n {
+            k = (k as isize + step).rem_euclid(n as isize) as usize;
+            if v[k] > v[i] {
+                break;
+            }
+            low = low.min(v[k]);
+        }
+        low
+    };
+    (0..n)
+        .filter(|&i| {
+            let (prev, next) = (v[(i + n - 1) % n], v[(i + 1) % n]);
+            // a plateau counts once, at its first sample
+            v[i] > prev && v[i] >= next && v[i] >= min_height
+        })
+        .filter(|&i| v[i] - valley(i, -1).max(valley(i, 1)) >= min_prominence)
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Vertical force in body weights: stance from 2% to 58% of the cycle at 0.85 body
+    /// weight with two Gaussian humps at `t1`, `t2` (cycle fraction) and a ripple of
+    /// amplitude `ripple`, zero in swing.
+    fn two_hump(n: usize, t1: f64, t2: f64, ripple: f64) -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                let t = i as f64 / n as f64;
+                let g = |c: f64| (-((t - c) / 0.08).powi(2)).exp();
+                if (0.02..0.58).contains(&t) {
+                    0.85 + 0.3 * (g(t1) + g(t2)) + ripple * (t * 120.0).sin()
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn prominent_peaks_ignore_ripples_and_shallow_dips() {
+        // double-hump stance force with a 1% ripple: two peaks near 15% and 45%
+        let v = two_hump(200, 0.15, 0.45, 0.01);
+        let p = prominent_peaks(&v, 0.05, 0.5);
+        assert_eq!(p.len(), 2, "{p:?}");
+        assert!((p[0] as f64 / 200.0 - 0.15).abs() < 0.03, "{p:?}");
+        assert!((p[1] as f64 / 200.0 - 0.45).abs() < 0.03, "{p:?}");
+        // every local maximum of the ripple is counted without the prominence test
+        assert!(prominent_peaks(&v, 0.0, 0.5).len() > 2);
+        // humps close together: the dip between them is under 5% of the peak, one peak
+        let v = two_hump(200, 0.25, 0.31, 0.0);
+        assert_eq!(prominent_peaks(&v, 0.05, 0.5).len(), 1);
+        // a peak lower than the height threshold is not counted
+        let v: Vec<f64> = two_hump(200, 0.15, 0.45, 0.0)
+            .iter()
+            .map(|f| 0.4 * f)
+            .collect();
+        assert!(prominent_peaks(&v, 0.05, 0.5).is_empty());
+    }
+
+    #[test]
+    fn prominent_peaks_of_a_periodic_signal_count_a_wrapping_peak_once() {
+        // one cosine hump centred on the cycle boundary, a plateau of two equal samples
+        let n = 100;
+        let mut v: Vec<f64> = (0..n)
+            .map(|i| (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos())
+            .collect();
+        assert_eq!(prominent_peaks(&v, 0.05, 0.5), vec![0]);
+        v[1] = v[0];
+        assert_eq!(prominent_peaks(&v, 0.05, 0.5), vec![0]);
+        assert!(prominent_peaks(&v[..2], 0.0, 0.0).is_empty());
+    }
 
     #[test]
     fn heel_strike_follows_the_reference_rule() {
