@@ -34,8 +34,11 @@ pub struct NodeModel {
     prosthetic: Vec<Option<f64>>,
     /// Problem indices of the actuator-driven coordinates.
     actuator_driven: Vec<usize>,
-    /// Per muscle-driven coordinate: (problem muscle, flat moment-arm index).
+    /// Per muscle-driven coordinate: (problem muscle, flat moment-arm index); removed
+    /// muscles have no terms.
     torque_terms: Vec<Vec<(usize, usize)>>,
+    /// Per problem muscle: removed by the settings (no force, no cost terms).
+    removed: Vec<bool>,
     /// Model muscle index of each problem muscle.
     muscle_model: Vec<usize>,
     /// Hill parameters per problem muscle.
@@ -150,6 +153,7 @@ impl NodeModel {
             .into_iter()
             .map(|i| (i, g.coordinates[i].passive))
             .collect();
+        let removed = p.removed_muscles();
         let torque_terms = muscle_driven
             .iter()
             .map(|&(i, _)| {
@@ -160,6 +164,9 @@ impl NodeModel {
                     if let (Some(om), Some(k)) =
                         (om, poly.coordinates().iter().position(|&x| x == c))
                     {
+                        if removed[*om] {
+                            continue;
+                        }
                         terms.push((*om, paths.moment_arm_range(mi).start + k));
                     }
                 }
@@ -200,6 +207,7 @@ impl NodeModel {
             prosthetic,
             actuator_driven: g.actuator_driven(),
             torque_terms,
+            removed,
             muscle_model,
             hill,
             paths,
@@ -314,6 +322,11 @@ impl NodeModel {
             let [c0, c1] = self.activation.constraints(a, da);
             y[o.activation() + m] = c0;
             y[o.activation() + nm + m] = c1;
+            sum_da2 += x[io.da() + m].sq();
+            sum_df2 += x[io.df() + m].sq();
+            if self.removed[m] {
+                continue;
+            }
             if self.weights.metabolic != 0.0 {
                 let e = self.metabolic.rate(&self.hill[m], a, &h).total;
                 sum_e += if self.exponent == self.exponent.round() {
@@ -323,8 +336,6 @@ impl NodeModel {
                 };
             }
             sum_a2 += a * a;
-            sum_da2 += x[io.da() + m].sq();
-            sum_df2 += x[io.df() + m].sq();
         }
         // Inverse dynamics with contact.
         stride_multibody::skeleton_dynamics(
@@ -394,17 +405,19 @@ impl NodeModel {
         }
         let w = &self.weights;
         let nmf = nm as f64;
+        // activity and metabolic means are over the muscles the model keeps
+        let n_kept = self.removed.iter().filter(|&&r| !r).count().max(1) as f64;
         let na = self.actuator_driven.len().max(1) as f64;
         let n_prosthetic = self.prosthetic.iter().filter(|k| k.is_some()).count();
         let n_tp =
             (self.muscle_driven.len() + self.actuator_driven.len() - n_prosthetic).max(1) as f64;
-        let mut l = sum_a2 * (w.activation / nmf)
+        let mut l = sum_a2 * (w.activation / n_kept)
             + sum_acc2 * (w.acceleration / n_acc.max(1) as f64)
             + sum_tp2 * (w.passive_torque / n_tp)
             + sum_e_arm2 * (w.arm_excitation / na)
             + (sum_da2 / nmf + sum_df2 / nmf + sum_arm_acc2 / na) * w.slack_controls;
         if w.metabolic != 0.0 {
-            l += sum_e * (w.metabolic / nmf / self.body_mass);
+            l += sum_e * (w.metabolic / n_kept / self.body_mass);
         }
         y[o.n_path()] = l;
     }
@@ -421,11 +434,12 @@ pub struct SampleOutputs {
     pub group_moment: Vec<[f64; 3]>,
     /// Origin of every body in ground [m].
     pub body_origins: Vec<[f64; 3]>,
-    /// Metabolic rate per problem muscle of the cost's model [W].
+    /// Metabolic rate per problem muscle of the cost's model [W] (0 for removed muscles).
     pub metabolic: Vec<f64>,
-    /// Metabolic rate per problem muscle with Bhargava 2004 (for the cost of transport) [W].
+    /// Metabolic rate per problem muscle with Bhargava 2004 (for the cost of transport) [W]
+    /// (0 for removed muscles).
     pub metabolic_bhargava: Vec<f64>,
-    /// Tendon force per problem muscle [N].
+    /// Tendon force per problem muscle [N] (0 for removed muscles).
     pub tendon_force: Vec<f64>,
     /// Passive torque per problem coordinate (0 where none) [N m].
     pub passive: Vec<f64>,
@@ -446,7 +460,9 @@ impl NodeModel {
             group_force: ws.skeleton.group_force.clone(),
             group_moment: ws.skeleton.group_moment.clone(),
             body_origins: ws.skeleton.body_origins.clone(),
-            tendon_force: ws.tendon.clone(),
+            tendon_force: (0..io.nm)
+                .map(|m| if self.removed[m] { 0.0 } else { ws.tendon[m] })
+                .collect(),
             passive: vec![0.0; self.coord_model.len()],
             ..Default::default()
         };
@@ -461,6 +477,11 @@ impl NodeModel {
                 ws.lmt[mi],
                 ws.vmt[mi],
             );
+            if self.removed[m] {
+                out.metabolic.push(0.0);
+                out.metabolic_bhargava.push(0.0);
+                continue;
+            }
             out.metabolic
                 .push(self.metabolic.rate(&self.hill[m], a, &h).total);
             out.metabolic_bhargava.push(

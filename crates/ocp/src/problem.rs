@@ -76,13 +76,9 @@ pub enum ProblemError {
     },
 }
 
-/// Factor on the maximal isometric force of the muscles a prosthesis removes: the gait
-/// view needs left–right muscle pairs, so they stay in the problem but produce no force
-/// (and, with their mass from F_max, no metabolic energy).
-pub const REMOVED_MUSCLE_FORCE_SCALE: f64 = 1e-6;
-
-/// Apply the prosthesis changes of the settings (FORMULATION 12.1) to a model: lighter
-/// shank and foot, ankle and subtalar muscles of the right leg without force.
+/// Apply the prosthesis changes of the settings (FORMULATION 12.1) to a model's bodies:
+/// lighter shank and foot. The muscles it removes are checked here and taken out of the
+/// problem by [`GaitProblem::removed_muscles`].
 pub fn apply_prosthesis(
     model: &mut Model,
     p: &crate::settings::Prosthesis,
@@ -99,13 +95,12 @@ pub fn apply_prosthesis(
         body.inertia.iter_mut().for_each(|i| *i *= p.inertia_scale);
     }
     for name in PROSTHESIS_REMOVED_MUSCLES {
-        let m = model
+        model
             .muscle_index(name)
             .ok_or_else(|| ProblemError::Prosthesis {
                 kind: "muscle",
                 name: name.into(),
             })?;
-        model.muscles[m].max_isometric_force *= REMOVED_MUSCLE_FORCE_SCALE;
     }
     Ok(())
 }
@@ -239,6 +234,7 @@ impl GaitProblem {
         lo[l.tf()] = t0;
         hi[l.tf()] = t1;
         let a_min = self.settings.activation_min;
+        let removed = self.removed_muscles();
         let mut points: Vec<Point> = (0..=l.n).map(Point::Mesh).collect();
         for k in 0..l.n {
             for j in 1..=3 {
@@ -247,7 +243,8 @@ impl GaitProblem {
         }
         for &p in &points {
             for m in 0..l.nm {
-                (lo[l.a(p, m)], hi[l.a(p, m)]) = (a_min, 1.0);
+                let a_max = if removed[m] { a_min } else { 1.0 };
+                (lo[l.a(p, m)], hi[l.a(p, m)]) = (a_min, a_max);
                 (lo[l.f(p, m)], hi[l.f(p, m)]) = (0.0, MAX_TENDON_FORCE / s.tendon_force);
             }
             for i in 0..l.nq {
@@ -281,6 +278,21 @@ impl GaitProblem {
             }
         }
         (lo, hi)
+    }
+
+    /// Per problem muscle: whether the settings remove it (the prosthesis' ankle and
+    /// subtalar muscles). A removed muscle keeps its states so that the muscle vectors stay
+    /// in left–right pairs, but its activation is held at the lower bound and it adds
+    /// neither force to the skeleton nor terms to the cost.
+    pub fn removed_muscles(&self) -> Vec<bool> {
+        self.gait
+            .muscles
+            .iter()
+            .map(|&mi| {
+                self.settings.prosthesis.is_some()
+                    && PROSTHESIS_REMOVED_MUSCLES.contains(&self.model.muscles[mi].name.as_str())
+            })
+            .collect()
     }
 
     /// Whether the problem is a symmetric half cycle (vs a periodic full cycle).
@@ -349,19 +361,11 @@ mod tests {
             "{}",
             m.total_mass()
         );
-        let i = m.muscle_index("soleus_r").unwrap();
-        let i0 = model.muscle_index("soleus_r").unwrap();
-        assert!(m.muscles[i].max_isometric_force < 1e-5 * model.muscles[i0].max_isometric_force);
-        let l = m.muscle_index("soleus_l").unwrap();
-        assert_eq!(
-            m.muscles[l].max_isometric_force,
-            model.muscles[l].max_isometric_force
-        );
     }
 
-    #[test]
-    fn prosthetic_joints_have_a_linear_passive_torque() {
-        use crate::settings::{CycleKind, Prosthesis};
+    /// The default model with the paper's prosthesis, full cycle, 4 intervals.
+    fn prosthesis_problem() -> (Model, ProblemSettings, GaitProblem) {
+        use crate::settings::Prosthesis;
         let settings = ProblemSettings {
             cycle: CycleKind::FullPeriodic,
             mesh_intervals: 4,
@@ -371,6 +375,12 @@ mod tests {
         let model = stride_model::default_model::default_model();
         let p =
             GaitProblem::new(&model, &settings, &crate::predict::bounds_data(&settings)).unwrap();
+        (model, settings, p)
+    }
+
+    #[test]
+    fn prosthetic_joints_have_a_linear_passive_torque() {
+        let (_, _, p) = prosthesis_problem();
         let node = crate::node::NodeModel::new(&p).unwrap();
         let mut x = p
             .initial_guess(crate::guess::GuessKind::QuasiRandom, None)
@@ -398,5 +408,79 @@ mod tests {
         assert!((out.passive[sr] - 40.0).abs() < 1e-9, "{}", out.passive[sr]);
         // The left (biological) ankle keeps its exponential passive torque.
         assert!((out.passive[al] + 80.0).abs() > 1.0, "{}", out.passive[al]);
+    }
+
+    #[test]
+    fn prosthesis_removes_the_right_ankle_muscles_from_forces_and_cost() {
+        let (model, settings, p) = prosthesis_problem();
+        let removed = p.removed_muscles();
+        assert_eq!(removed.iter().filter(|&&r| r).count(), 12);
+        let muscle = |name: &str| {
+            let mi = p.model.muscle_index(name).unwrap();
+            p.gait.muscles.iter().position(|&x| x == mi).unwrap()
+        };
+        let (sol_r, sol_l) = (muscle("soleus_r"), muscle("soleus_l"));
+        assert!(removed[sol_r] && !removed[sol_l]);
+        // a removed muscle keeps its force: the model is not changed, the problem is
+        assert_eq!(
+            p.model.muscles[p.gait.muscles[sol_r]].max_isometric_force,
+            model.muscles[model.muscle_index("soleus_r").unwrap()].max_isometric_force
+        );
+        // its activation is held at the lower bound at every point
+        let l = &p.layout;
+        let (lo, hi) = p.variable_bounds();
+        for pt in [Point::Mesh(0), Point::Col(2, 3)] {
+            let k = l.a(pt, sol_r);
+            assert_eq!(
+                (lo[k], hi[k]),
+                (settings.activation_min, settings.activation_min)
+            );
+            assert_eq!(hi[l.a(pt, sol_l)], 1.0);
+        }
+        // raising a removed muscle's force or activation changes neither the torque
+        // balance of the right ankle nor the cost; the left soleus changes both
+        let node = crate::node::NodeModel::new(&p).unwrap();
+        let x = p
+            .initial_guess(crate::guess::GuessKind::QuasiRandom, None)
+            .unwrap();
+        let io = crate::transcription::NodeInputs {
+            nm: l.nm,
+            nq: l.nq,
+            na: l.na,
+        };
+        let xin: Vec<f64> = io.global_indices(l, 1, 2).iter().map(|&g| x[g]).collect();
+        let mut ws = node.workspace::<f64>().unwrap();
+        let eval = |ws: &mut crate::node::NodeWorkspace<f64>, xin: &[f64]| {
+            let mut y = vec![0.0; node.n_outputs()];
+            node.eval(ws, xin, &mut y);
+            y
+        };
+        let y0 = eval(&mut ws, &xin);
+        let o = node.outputs();
+        let balance = |y: &[f64], name: &str| {
+            let i = p.gait.index_of(name).unwrap();
+            let t = p.gait.muscle_driven().iter().position(|&c| c == i).unwrap();
+            y[o.root + t]
+        };
+        let cost = |y: &[f64]| y[o.n_path()];
+        for (m, side, changes) in [
+            (sol_r, "ankle_angle_r", false),
+            (sol_l, "ankle_angle_l", true),
+        ] {
+            let mut x1 = xin.clone();
+            x1[io.f() + m] *= 2.0;
+            x1[io.a() + m] = 0.6;
+            let y1 = eval(&mut ws, &x1);
+            let (db, dc) = (
+                (balance(&y1, side) - balance(&y0, side)).abs(),
+                (cost(&y1) - cost(&y0)).abs(),
+            );
+            assert_eq!(db > 1e-6, changes, "{side}: torque balance change {db}");
+            assert_eq!(dc > 1e-9, changes, "{side}: cost change {dc}");
+        }
+        // no metabolic energy is counted for a removed muscle
+        let out = node.sample(&mut ws, &xin);
+        assert_eq!(out.metabolic_bhargava[sol_r], 0.0);
+        assert!(out.metabolic_bhargava[sol_l] > 0.0);
     }
 }
