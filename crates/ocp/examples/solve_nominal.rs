@@ -2,8 +2,10 @@
 //! `cargo run --release -p stride-ocp --example solve_nominal -- <N> <qr|di> [exact|lbfgs] [ipm|ipopt|ripopt]`
 //! Environment: `STRIDE_PRINT` (print level, default 2), `STRIDE_MAX_ITER` (default 3000),
 //! `STRIDE_MU=monotone` (monotone instead of adaptive barrier update) or `STRIDE_MU=pd`
-//! (adaptive with `SolverOptions::mu_pd_globalisation`), `STRIDE_MU_SAFEGUARD` (factor;
-//! default by Hessian mode), `STRIDE_KKT=ldlt|lblt`.
+//! (adaptive with the kkt-error globalisation), `filter`, `scaled` (the other
+//! globalisations; default by Hessian mode), `STRIDE_MU_SAFEGUARD` (factor;
+//! default by Hessian mode), `STRIDE_KKT=ldlt|lblt`, `STRIDE_ORACLE=quality` (quality-function μ oracle),
+//! `STRIDE_WATCHDOG` (shortened steps that start the watchdog, 0: off).
 
 use std::ops::ControlFlow;
 use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
@@ -45,10 +47,20 @@ fn main() {
         } else {
             stride_solve::solver::MuStrategy::Adaptive
         },
-        mu_pd_globalisation: std::env::var("STRIDE_MU").as_deref() == Ok("pd"),
+        mu_globalisation: match std::env::var("STRIDE_MU").as_deref() {
+            Ok("pd") => Some(stride_solve::solver::MuGlobalisation::KktError),
+            Ok("filter") => Some(stride_solve::solver::MuGlobalisation::ObjConstrFilter),
+            Ok("scaled") => Some(stride_solve::solver::MuGlobalisation::ScaledError),
+            _ => None,
+        },
         mu_safeguard: std::env::var("STRIDE_MU_SAFEGUARD")
             .ok()
             .and_then(|v| v.parse().ok()),
+        mu_oracle: if std::env::var("STRIDE_ORACLE").as_deref() == Ok("quality") {
+            stride_solve::solver::MuOracle::QualityFunction
+        } else {
+            stride_solve::solver::MuOracle::Probing
+        },
         watchdog_trigger: std::env::var("STRIDE_WATCHDOG")
             .ok()
             .and_then(|v| v.parse().ok())

@@ -36,6 +36,35 @@ pub enum MuStrategy {
     Adaptive,
 }
 
+/// When the adaptive μ strategy of the pure-Rust interior point falls back to (and leaves)
+/// its monotone mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum MuGlobalisation {
+    /// Free mode needs the scaled max-norm optimality error to fall by 1e-4 within four
+    /// iterations; fixed mode lasts until its barrier problem is solved, and μ never goes
+    /// below tol/10 before the iterate is primal and dual feasible.
+    ScaledError,
+    /// IPOPT's `kkt-error`: the same test on the mean squared primal-dual error, and fixed
+    /// mode left as soon as it holds again.
+    KktError,
+    /// IPOPT's default `obj-constr-filter`: free mode lasts while every iterate is accepted
+    /// by a filter of the objectives and constraint violations of the earlier free-mode
+    /// iterates (margin 1e-5 × min(1, error)); fixed mode is left as soon as one is again.
+    /// μ may fall to IPOPT's `mu_min` in free mode.
+    ObjConstrFilter,
+}
+
+/// How the adaptive μ strategy of the pure-Rust interior point picks μ in free mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum MuOracle {
+    /// Mehrotra's probing heuristic: σ = (complementarity after the affine step /
+    /// average complementarity)³.
+    Probing,
+    /// IPOPT's default `quality-function`: σ minimising the linearised mean squared
+    /// optimality error after the step, by golden-section search.
+    QualityFunction,
+}
+
 /// Solver settings shared by all backends (defaults follow IPOPT's).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -69,11 +98,14 @@ pub struct SolverOptions {
     /// None (default): 0.01 with the exact Hessian, 0 (off, IPOPT's default) with the
     /// limited-memory Hessian (decision 0002); the IPOPT backend ignores it.
     pub mu_safeguard: Option<f64>,
-    /// Adaptive μ globalisation of the pure-Rust interior point as in IPOPT's `kkt-error`:
-    /// progress measured by the mean squared primal-dual error, and fixed mode left as soon
-    /// as progress is made again (default false: scaled max-norm error, and fixed mode kept
-    /// until its barrier problem is solved; the IPOPT backend ignores it).
-    pub mu_pd_globalisation: bool,
+    /// Globalisation of the adaptive μ strategy of the pure-Rust interior point. None
+    /// (default): `ScaledError` with the exact Hessian, `ObjConstrFilter` with the
+    /// limited-memory Hessian (decision 0002); the IPOPT backend ignores it.
+    pub mu_globalisation: Option<MuGlobalisation>,
+    /// Free-mode μ oracle of the adaptive strategy of the pure-Rust interior point (default
+    /// `Probing`: IPOPT's default quality function diverged on the quasi-random 10-interval
+    /// gait problem, decision 0002; the IPOPT backend ignores it).
+    pub mu_oracle: MuOracle,
     /// Soft restoration of the pure-Rust interior point (IPOPT): when the filter line search
     /// fails, first accept the primal-dual step to the fraction-to-boundary limits if it
     /// reduces the barrier problem's primal-dual error (default true; the IPOPT backend
@@ -95,6 +127,15 @@ pub struct SolverOptions {
 }
 
 impl SolverOptions {
+    /// The adaptive-μ globalisation in effect: the one set, or the default of the Hessian
+    /// mode.
+    pub fn mu_globalisation_in_effect(&self) -> MuGlobalisation {
+        self.mu_globalisation.unwrap_or(match self.hessian {
+            HessianMode::Exact => MuGlobalisation::ScaledError,
+            HessianMode::LimitedMemory { .. } => MuGlobalisation::ObjConstrFilter,
+        })
+    }
+
     /// The μ safeguard factor in effect: the one set, or the default of the Hessian mode.
     pub fn mu_safeguard_factor(&self) -> f64 {
         self.mu_safeguard.unwrap_or(match self.hessian {
@@ -120,7 +161,8 @@ impl Default for SolverOptions {
             mu_strategy: MuStrategy::Monotone,
             mu_init: 0.1,
             mu_safeguard: None,
-            mu_pd_globalisation: false,
+            mu_globalisation: None,
+            mu_oracle: MuOracle::Probing,
             soft_restoration: true,
             watchdog_trigger: 10,
             nlp_scaling: true,

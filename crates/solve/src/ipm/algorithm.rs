@@ -15,10 +15,12 @@ use std::time::{Duration, Instant};
 use crate::ipm::kkt::KktPattern;
 use crate::ipm::lbfgs::{dot, Lbfgs, LowRankCorrection};
 use crate::ipm::linsys::{Inertia, KktSolver};
+use crate::ipm::mu_oracle::choose_sigma;
 use crate::ipm::scaled::ScaledNlp;
 use crate::nlp::{validate_bounds, validate_structures, EvalError, Nlp};
 use crate::solver::{
-    HessianMode, IterationRecord, MuStrategy, SolveError, SolveResult, SolveStatus, SolverOptions,
+    HessianMode, IterationRecord, MuGlobalisation, MuOracle, MuStrategy, SolveError, SolveResult,
+    SolveStatus, SolverOptions,
 };
 
 const NO_SLACK: usize = usize::MAX;
@@ -62,6 +64,13 @@ const FIXED_DIAG: f64 = 1e20;
 const CONSTR_MULT_INIT_MAX: f64 = 1000.0;
 /// Constant regularisation of the constraint block (quasi-definiteness).
 const DELTA_C: f64 = 1e-9;
+
+/// Margin factor of the obj-constr-filter μ globalisation (IPOPT `filter_margin_fact`).
+const MU_FILTER_MARGIN: f64 = 1e-5;
+/// Smallest barrier parameter of the free mode (IPOPT `mu_min`).
+const MU_MIN: f64 = 1e-11;
+/// Largest barrier parameter of the adaptive strategy.
+const MU_MAX: f64 = 1e5;
 
 /// Full steps the watchdog takes before it returns to its starting point (IPOPT
 /// `watchdog_trial_iter_max`).
@@ -795,6 +804,16 @@ pub fn solve(
     // KKT errors of the last free-mode iterations (IPOPT `adaptive_mu_globalization =
     // kkt-error`, 4 reference values, reduction factor 0.9999)
     let mut free_refs: Vec<f64> = Vec::new();
+    let globalisation = options.mu_globalisation_in_effect();
+    let oracle = options.mu_oracle;
+    // steps of the quality-function oracle for μ = 0 and μ = average complementarity
+    let (mut dw_aff, mut dw_avg) = if want_adaptive && oracle == MuOracle::QualityFunction {
+        (vec![0.0; big_n], vec![0.0; big_n])
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    // (objective, θ) of the accepted free-mode iterates (obj-constr-filter globalisation)
+    let mut mu_filter: Vec<(f64, f64)> = Vec::new();
     let status: SolveStatus;
     let mut iter = 0usize;
     let mut last_rec = IterationRecord::default();
@@ -915,64 +934,94 @@ pub fn solve(
         // dual feasible (a lower μ that early makes iterates hug their bounds); once it is,
         // low enough that the unscaled complementarity test (compl_inf_tol) can be met.
         let feasible = inf_pr_u <= options.constr_viol_tol && inf_du / s_d <= options.tol;
-        let mu_floor = if feasible {
+        let mu_floor = if globalisation == MuGlobalisation::ObjConstrFilter {
+            // IPOPT: the fixed mode decreases μ down to min(tol, compl_inf_tol)/(κ_ε + 1)
+            options.tol.min(options.compl_inf_tol * prob.obj_scale) / (KAPPA_EPS + 1.0)
+        } else if feasible {
             options.tol.min(options.compl_inf_tol * prob.obj_scale) / 10.0
         } else {
             options.tol / 10.0
         };
 
-        // ---- adaptive μ globalisation (IPOPT `adaptive_mu_globalization = kkt-error`) ------
-        // Progress is measured by the mean squared primal-dual error (IPOPT's
-        // `quality_function_pd_system` with the default 2-norm-squared), which must fall below
-        // 0.9999 × the largest of the last four reference errors. Free mode is left without
-        // such progress; fixed mode is left as soon as it is made again (the references are
-        // kept across the switch), so a short fixed-μ phase does not have to solve the whole
-        // barrier problem before probing resumes.
-        let pd = options.mu_pd_globalisation;
-        let pd_error = if want_adaptive && pd {
-            st.pd_barrier_error(&gl, &r, 0.0)
-        } else {
-            err0
-        };
-        let progress = free_refs.len() >= FREE_MODE_REFS
-            && free_refs.iter().any(|&r| pd_error <= FREE_MODE_RED * r);
-        if adaptive {
-            if free_refs.len() >= FREE_MODE_REFS && !progress {
+        if want_adaptive && globalisation == MuGlobalisation::ObjConstrFilter {
+            // ---- IPOPT's default globalisation `obj-constr-filter` --------------------------
+            // An iterate makes sufficient progress when (f + margin, θ + margin) is not
+            // dominated by any (f, θ) of the earlier accepted free-mode iterates.
+            let theta = one_norm(&r);
+            let margin = MU_FILTER_MARGIN * err0.min(1.0);
+            let sufficient = !tiny_step
+                && mu_filter
+                    .iter()
+                    .all(|&(fe, te)| st.f + margin < fe || theta + margin < te);
+            if sufficient {
+                // stay in (or return to) free mode
+                adaptive = true;
+                mu_filter.push((st.f, theta));
+            } else if adaptive {
                 adaptive = false;
-                if !pd {
-                    free_refs.clear();
-                }
                 mu = (FIXED_MU_FACTOR * st.average_complementarity()).clamp(mu_floor, 1e5);
             } else {
+                // fixed mode: one monotone decrease once the barrier problem is solved
+                let s_c_mu = st.complementarity(mu) / s_c;
+                let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
+                if err_mu <= KAPPA_EPS * mu || tiny_step {
+                    mu = mu_floor.max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
+                }
+            }
+        } else {
+            // ---- adaptive μ globalisation (IPOPT `adaptive_mu_globalization = kkt-error`) ------
+            // Progress is measured by the mean squared primal-dual error (IPOPT's
+            // `quality_function_pd_system` with the default 2-norm-squared), which must fall below
+            // 0.9999 × the largest of the last four reference errors. Free mode is left without
+            // such progress; fixed mode is left as soon as it is made again (the references are
+            // kept across the switch), so a short fixed-μ phase does not have to solve the whole
+            // barrier problem before probing resumes.
+            let pd = globalisation == MuGlobalisation::KktError;
+            let pd_error = if want_adaptive && pd {
+                st.pd_barrier_error(&gl, &r, 0.0)
+            } else {
+                err0
+            };
+            let progress = free_refs.len() >= FREE_MODE_REFS
+                && free_refs.iter().any(|&r| pd_error <= FREE_MODE_RED * r);
+            if adaptive {
+                if free_refs.len() >= FREE_MODE_REFS && !progress {
+                    adaptive = false;
+                    if !pd {
+                        free_refs.clear();
+                    }
+                    mu = (FIXED_MU_FACTOR * st.average_complementarity()).clamp(mu_floor, 1e5);
+                } else {
+                    free_refs.push(pd_error);
+                    if free_refs.len() > FREE_MODE_REFS {
+                        free_refs.remove(0);
+                    }
+                }
+            } else if pd && want_adaptive && progress && !feasible && !tiny_step {
+                adaptive = true;
                 free_refs.push(pd_error);
                 if free_refs.len() > FREE_MODE_REFS {
                     free_refs.remove(0);
                 }
             }
-        } else if pd && want_adaptive && progress && !feasible && !tiny_step {
-            adaptive = true;
-            free_refs.push(pd_error);
-            if free_refs.len() > FREE_MODE_REFS {
-                free_refs.remove(0);
-            }
-        }
 
-        // ---- monotone barrier update ------------------------------------------------------
-        if !adaptive {
-            for _ in 0..20 {
-                let s_c_mu = st.complementarity(mu) / s_c;
-                let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
-                if err_mu > KAPPA_EPS * mu || mu <= mu_floor {
-                    break;
+            // ---- monotone barrier update ------------------------------------------------------
+            if !adaptive {
+                for _ in 0..20 {
+                    let s_c_mu = st.complementarity(mu) / s_c;
+                    let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
+                    if err_mu > KAPPA_EPS * mu || mu <= mu_floor {
+                        break;
+                    }
+                    if want_adaptive && ls_failures == 0 && !feasible {
+                        // barrier problem solved: back to free mode (once primal and dual
+                        // feasible, μ only decreases monotonically: a free-mode probe there
+                        // can leave the feasible region and cycle back)
+                        adaptive = true;
+                        break;
+                    }
+                    mu = (mu_floor).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
                 }
-                if want_adaptive && ls_failures == 0 && !feasible {
-                    // barrier problem solved: back to free mode (once primal and dual
-                    // feasible, μ only decreases monotonically: a free-mode probe there
-                    // can leave the feasible region and cycle back)
-                    adaptive = true;
-                    break;
-                }
-                mu = (mu_floor).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
             }
         }
 
@@ -1142,8 +1191,63 @@ pub fn solve(
             Ok(())
         };
 
-        // ---- adaptive μ: Mehrotra probing with the affine-scaling direction ---------------
-        if adaptive {
+        // ---- adaptive μ: IPOPT's quality function -----------------------------------------
+        let free_floor = if globalisation == MuGlobalisation::ObjConstrFilter {
+            // IPOPT's mu_min in free mode
+            MU_MIN.min(0.5 * options.tol.min(options.compl_inf_tol * prob.obj_scale))
+        } else {
+            mu_floor
+        };
+        let avg = st.average_complementarity();
+        if adaptive && oracle == MuOracle::QualityFunction && avg > 0.0 {
+            // steps for μ = 0 and μ = avg; the step of σ is their affine combination
+            direction(
+                &st,
+                0.0,
+                &r,
+                &mut rhs,
+                &mut dw_aff,
+                &mut dlam,
+                &mut lin_time,
+            )?;
+            direction(
+                &st,
+                avg,
+                &r,
+                &mut rhs,
+                &mut dw_avg,
+                &mut dlam,
+                &mut lin_time,
+            )?;
+            let tau_q = (1.0 - err0).max(0.99);
+            let dual2 = gl.iter().map(|v| v * v).sum::<f64>() / big_n.max(1) as f64;
+            let primal2 = r.iter().map(|v| v * v).sum::<f64>() / m.max(1) as f64;
+            let quality = |sigma: f64| -> f64 {
+                for j in 0..big_n {
+                    dw[j] = dw_aff[j] + sigma * (dw_avg[j] - dw_aff[j]);
+                }
+                bound_multiplier_steps(&st, sigma * avg, &dw, &mut dzl, &mut dzu);
+                let ap = fraction_to_boundary(&st, &st.w, &dw, tau_q);
+                let ad = dual_fraction_to_boundary(&st, &dzl, &dzu, tau_q);
+                let (mut c2, mut nc) = (0.0, 0usize);
+                for j in 0..big_n {
+                    if st.has_l[j] {
+                        let p = (st.w[j] + ap * dw[j] - st.wl[j]) * (st.zl[j] + ad * dzl[j]);
+                        c2 += p * p;
+                        nc += 1;
+                    }
+                    if st.has_u[j] {
+                        let p = (st.wu[j] - st.w[j] - ap * dw[j]) * (st.zu[j] + ad * dzu[j]);
+                        c2 += p * p;
+                        nc += 1;
+                    }
+                }
+                (1.0 - ad).powi(2) * dual2 + (1.0 - ap).powi(2) * primal2 + c2 / nc.max(1) as f64
+            };
+            let sigma = choose_sigma(quality, free_floor / avg, MU_MAX / avg);
+            mu = (sigma * avg).clamp(free_floor, MU_MAX);
+        } else if adaptive {
+            // ---- adaptive μ: Mehrotra probing with the affine-scaling direction -----------
             direction(&st, 0.0, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
             for j in 0..big_n {
                 dzl[j] = if st.has_l[j] {
@@ -1170,7 +1274,6 @@ pub fn solve(
                     cnt += 1;
                 }
             }
-            let avg = st.average_complementarity();
             if cnt > 0 && avg > 0.0 {
                 let aff = (s / cnt as f64).max(0.0);
                 let sig = (aff / avg).powi(3).min(1.0);
@@ -1179,7 +1282,7 @@ pub fn solve(
                 // proportion to the remaining infeasibility, never above the average
                 // complementarity
                 let lower = (options.mu_safeguard_factor() * (inf_du / s_d).max(inf_pr)).min(avg);
-                mu = (sig * avg).max(lower).clamp(mu_floor, 1e5);
+                mu = (sig * avg).max(lower).clamp(free_floor, MU_MAX);
             } else {
                 mu = mu_floor;
             }

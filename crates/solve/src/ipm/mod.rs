@@ -10,6 +10,7 @@ pub mod algorithm;
 pub mod kkt;
 pub mod lbfgs;
 pub mod linsys;
+mod mu_oracle;
 pub mod scaled;
 
 use crate::nlp::Nlp;

@@ -8,7 +8,8 @@ use crate::problems::{
     Hs006, Hs021, Hs035, Hs071, InfeasibleDisk, PendulumChain, RosenbrockDisk, WaechterBiegler,
 };
 use crate::solver::{
-    HessianMode, MuStrategy, SolveError, SolveResult, SolveStatus, Solver, SolverOptions,
+    HessianMode, MuGlobalisation, MuOracle, MuStrategy, SolveError, SolveResult, SolveStatus,
+    Solver, SolverOptions,
 };
 
 fn run(nlp: &dyn Nlp, opts: &SolverOptions) -> SolveResult {
@@ -57,14 +58,14 @@ fn all_options() -> Vec<(&'static str, SolverOptions)> {
     };
     let adaptive_pd = SolverOptions {
         mu_strategy: MuStrategy::Adaptive,
-        mu_pd_globalisation: true,
+        mu_globalisation: Some(MuGlobalisation::KktError),
         ..SolverOptions::default()
     };
     let lbfgs_pd = SolverOptions {
         hessian: HessianMode::LimitedMemory { history: 6 },
         max_iter: 500,
         mu_strategy: MuStrategy::Adaptive,
-        mu_pd_globalisation: true,
+        mu_globalisation: Some(MuGlobalisation::KktError),
         ..SolverOptions::default()
     };
     // the watchdog after every shortened step, to exercise its full steps and returns
@@ -78,8 +79,28 @@ fn all_options() -> Vec<(&'static str, SolverOptions)> {
         watchdog_trigger: 1,
         ..SolverOptions::default()
     };
+    let adaptive_filter = SolverOptions {
+        mu_strategy: MuStrategy::Adaptive,
+        mu_globalisation: Some(MuGlobalisation::ObjConstrFilter),
+        ..SolverOptions::default()
+    };
+    let adaptive_quality = SolverOptions {
+        mu_strategy: MuStrategy::Adaptive,
+        mu_globalisation: Some(MuGlobalisation::ObjConstrFilter),
+        mu_oracle: MuOracle::QualityFunction,
+        ..SolverOptions::default()
+    };
+    let lbfgs_adaptive = SolverOptions {
+        hessian: HessianMode::LimitedMemory { history: 6 },
+        max_iter: 500,
+        mu_strategy: MuStrategy::Adaptive,
+        ..SolverOptions::default()
+    };
     vec![
         ("exact", exact),
+        ("l-bfgs-adaptive", lbfgs_adaptive),
+        ("adaptive-quality-function", adaptive_quality),
+        ("adaptive-filter", adaptive_filter),
         ("exact-watchdog-1", watchdog),
         ("l-bfgs-watchdog-1", lbfgs_watchdog),
         ("adaptive", adaptive),
