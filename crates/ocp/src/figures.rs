@@ -696,6 +696,7 @@ mod tests {
             time_evaluations: Duration::ZERO,
             time_linear_solver: Duration::ZERO,
             time_symbolic: Duration::ZERO,
+            time_factorisation: Duration::ZERO,
             factorizations: 0,
             objective_evaluations: 0,
             log: Vec::new(),

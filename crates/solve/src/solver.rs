@@ -261,6 +261,9 @@ pub struct SolveResult {
     pub time_symbolic: Duration,
     /// Number of KKT numeric factorisations.
     pub factorizations: usize,
+    /// Time spent in the numeric KKT factorisations (part of `time_linear_solver`; zero when
+    /// the backend does not report it).
+    pub time_factorisation: Duration,
     /// Number of objective evaluations.
     pub objective_evaluations: usize,
     /// The iteration log.

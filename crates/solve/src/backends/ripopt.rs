@@ -266,6 +266,7 @@ impl Solver for RipoptSolver {
             time_evaluations: counts.time,
             time_linear_solver: Default::default(),
             time_symbolic: Default::default(),
+            time_factorisation: Default::default(),
             factorizations: 0,
             objective_evaluations: counts.objective,
             log: monitor.log,

@@ -730,6 +730,8 @@ pub fn solve(
     // regularisation δ_c on each constraint row (removed again by iterative refinement)
     let d_c_reg_buf = vec![delta_c; m];
     let mut factorizations = 0usize;
+    // numeric factorisations of the main iterations (not the restoration phase's)
+    let mut factor_time = Duration::ZERO;
     let mut restorations = 0usize;
     let mut soft_steps = 0usize;
     let mut watchdog: Option<Watchdog> = None;
@@ -1059,9 +1061,11 @@ pub fn solve(
                 };
             }
             pattern.assemble(&mut kvals, &st.hv, &st.jv, &diag_x, &d_c);
+            let t_factor = Instant::now();
             let inertia = linear
                 .factor(&kvals)
                 .map_err(|e| SolveError::Backend(e.to_string()))?;
+            factor_time += t_factor.elapsed();
             factorizations += 1;
             if debug {
                 eprintln!("    delta_w {delta_w:.2e}: inertia {inertia:?} (want {n}, {m})");
@@ -1774,13 +1778,14 @@ pub fn solve(
         time_evaluations: prob.eval_time,
         time_linear_solver: lin_time,
         time_symbolic,
+        time_factorisation: factor_time,
         factorizations,
         objective_evaluations: prob.n_obj,
         log,
     };
     if options.print_level >= 1 {
         eprintln!(
-            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps, watchdog {} started / {} returned), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s)",
+            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps, watchdog {} started / {} returned), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s of which {} factorisations {:.3} s)",
             result.status,
             result.iterations,
             restorations,
@@ -1791,7 +1796,9 @@ pub fn solve(
             result.constraint_violation,
             result.time_total.as_secs_f64(),
             result.time_evaluations.as_secs_f64(),
-            result.time_linear_solver.as_secs_f64()
+            result.time_linear_solver.as_secs_f64(),
+            result.factorizations,
+            result.time_factorisation.as_secs_f64()
         );
     }
     Ok(result)

@@ -548,6 +548,7 @@ impl Solver for IpoptSolver {
             time_evaluations: counts.time,
             time_linear_solver: Default::default(),
             time_symbolic: Default::default(),
+            time_factorisation: Default::default(),
             factorizations: 0,
             objective_evaluations: counts.objective,
             log: monitor.log,
