@@ -702,17 +702,7 @@ mod tests {
             log: Vec::new(),
         };
         let solved = vec![predict::Solved {
-            report: predict::GuessReport {
-                guess: GuessKind::DataInformedWalking,
-                status: "Optimal".into(),
-                converged: true,
-                iterations: 0,
-                objective: 0.0,
-                constraint_violation: 0.0,
-                time_total_s: 0.0,
-                time_evaluations_s: 0.0,
-                time_solver_s: 0.0,
-            },
+            report: predict::GuessReport::new(GuessKind::DataInformedWalking, &result),
             result,
         }];
         let dir = std::env::temp_dir().join(format!("stride-figures-{}", std::process::id()));

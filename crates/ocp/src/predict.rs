@@ -62,6 +62,35 @@ pub struct GuessReport {
     pub time_evaluations_s: f64,
     /// Time in the solver itself [s].
     pub time_solver_s: f64,
+    /// Time in the KKT factorisations and solves, part of the solver time [s] (absent when
+    /// the backend does not report it).
+    pub time_linear_solver_s: Option<f64>,
+    /// Time in the numeric KKT factorisations, part of the linear-solver time [s] (absent
+    /// when the backend does not report it).
+    pub time_factorisation_s: Option<f64>,
+}
+
+impl GuessReport {
+    /// The report of a finished solve from `guess`.
+    pub fn new(guess: GuessKind, r: &SolveResult) -> Self {
+        GuessReport {
+            guess,
+            status: format!("{:?}", r.status),
+            converged: r.status.is_success(),
+            iterations: r.iterations,
+            objective: r.objective,
+            constraint_violation: r.constraint_violation,
+            time_total_s: r.time_total.as_secs_f64(),
+            time_evaluations_s: r.time_evaluations.as_secs_f64(),
+            time_solver_s: r
+                .time_total
+                .saturating_sub(r.time_evaluations)
+                .as_secs_f64(),
+            time_linear_solver_s: r.reported_linear_solver_time().map(|t| t.as_secs_f64()),
+            time_factorisation_s: (!r.time_factorisation.is_zero())
+                .then_some(r.time_factorisation.as_secs_f64()),
+        }
+    }
 }
 
 /// The summary written to `summary.json`.
@@ -161,18 +190,7 @@ pub fn solve_guesses(
                         })
                         .map_err(|e| PredictError::Solver(e.to_string()))?;
                     Ok(Solved {
-                        report: GuessReport {
-                            guess: g,
-                            status: format!("{:?}", r.status),
-                            converged: r.status.is_success(),
-                            iterations: r.iterations,
-                            objective: r.objective,
-                            constraint_violation: r.constraint_violation,
-                            time_total_s: r.time_total.as_secs_f64(),
-                            time_evaluations_s: r.time_evaluations.as_secs_f64(),
-                            time_solver_s: (r.time_total.saturating_sub(r.time_evaluations))
-                                .as_secs_f64(),
-                        },
+                        report: GuessReport::new(g, &r),
                         result: r,
                     })
                 })

@@ -100,20 +100,7 @@ impl PredictRunner {
             .solve(&tr, &self.options, &mut |_| ControlFlow::Continue(()))
             .map_err(|e| format!("solver: {e}"))?;
         Ok(Solved {
-            report: GuessReport {
-                guess: label,
-                status: format!("{:?}", r.status),
-                converged: r.status.is_success(),
-                iterations: r.iterations,
-                objective: r.objective,
-                constraint_violation: r.constraint_violation,
-                time_total_s: r.time_total.as_secs_f64(),
-                time_evaluations_s: r.time_evaluations.as_secs_f64(),
-                time_solver_s: r
-                    .time_total
-                    .saturating_sub(r.time_evaluations)
-                    .as_secs_f64(),
-            },
+            report: GuessReport::new(label, &r),
             result: r,
         })
     }
