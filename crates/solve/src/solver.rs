@@ -50,7 +50,7 @@ pub enum MuGlobalisation {
     /// IPOPT's default `obj-constr-filter`: free mode lasts while every iterate is accepted
     /// by a filter of the objectives and constraint violations of the earlier free-mode
     /// iterates (margin 1e-5 × min(1, error)); fixed mode is left as soon as one is again.
-    /// μ may fall to IPOPT's `mu_min` in free mode.
+    /// μ never goes below min(tol, compl_inf_tol)/(κ_ε + 1), in either mode.
     ObjConstrFilter,
 }
 
