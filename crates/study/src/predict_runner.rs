@@ -91,13 +91,17 @@ impl PredictRunner {
         problem: &GaitProblem,
         x0: Vec<f64>,
         label: GuessKind,
+        progress: &(dyn Fn(usize) + Sync),
     ) -> Result<Solved, String> {
         let node = NodeModel::new(problem).map_err(err)?;
         let tape = Arc::new(TapeNode::for_problem(problem, &node, &x0).map_err(err)?);
         let tr = Transcription::new(problem.clone(), tape, x0);
         let r = self
             .solver
-            .solve(&tr, &self.options, &mut |_| ControlFlow::Continue(()))
+            .solve(&tr, &self.options, &mut |rec| {
+                progress(rec.iter);
+                ControlFlow::Continue(())
+            })
             .map_err(|e| format!("solver: {e}"))?;
         Ok(Solved {
             report: GuessReport::new(label, &r),
@@ -139,7 +143,13 @@ fn com_energy_correlation(
 }
 
 impl CaseRunner for PredictRunner {
-    fn run(&self, case: &Case, source: Option<&Path>, dir: &Path) -> Result<CaseOutcome, String> {
+    fn run(
+        &self,
+        case: &Case,
+        source: Option<&Path>,
+        dir: &Path,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<CaseOutcome, String> {
         let (problem, solved) = match case.guess {
             CaseGuess::Standard(g) => predict::solve_guesses(
                 &self.model,
@@ -147,7 +157,7 @@ impl CaseRunner for PredictRunner {
                 &[g],
                 self.solver.as_ref(),
                 &self.options,
-                &|_, _| {},
+                &|_, rec| progress(rec.iter),
             )
             .map_err(err)?,
             CaseGuess::Continuation(kind) => {
@@ -161,7 +171,7 @@ impl CaseRunner for PredictRunner {
                 let x0 = self.continuation_guess(&problem, kind, src)?;
                 // predict's summary can only name the three standard guesses; the case
                 // record names the real one.
-                let s = self.solve_from(&problem, x0, GuessKind::QuasiRandom)?;
+                let s = self.solve_from(&problem, x0, GuessKind::QuasiRandom, progress)?;
                 (problem, vec![s])
             }
         };

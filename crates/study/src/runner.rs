@@ -11,8 +11,15 @@ use std::time::{Duration, Instant};
 pub trait CaseRunner: Sync {
     /// Solve `case`, writing its result files into `dir` (a fresh temporary folder);
     /// `source` is the finished folder of the case whose solution seeds a continuation
-    /// guess. An `Err` is a failure reason (the study goes on).
-    fn run(&self, case: &Case, source: Option<&Path>, dir: &Path) -> Result<CaseOutcome, String>;
+    /// guess; `progress` is told the solver's iteration count as it advances. An `Err` is a
+    /// failure reason (the study goes on).
+    fn run(
+        &self,
+        case: &Case,
+        source: Option<&Path>,
+        dir: &Path,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<CaseOutcome, String>;
 }
 
 /// How to run a study.
@@ -55,6 +62,8 @@ struct Shared {
     error: Option<StoreError>,
     /// Start time of each case in flight.
     started: Vec<Option<Instant>>,
+    /// Latest solver iteration of each case in flight.
+    iterations: Vec<usize>,
     /// Set when every worker has stopped.
     finished: bool,
 }
@@ -117,6 +126,7 @@ pub fn run_study(
         records,
         running: 0,
         started: vec![None; cases.len()],
+        iterations: vec![0; cases.len()],
         finished: false,
         ran: 0,
         time_spent: Duration::ZERO,
@@ -185,6 +195,7 @@ fn worker(
                     sh.state[i] = State::Running;
                     sh.running += 1;
                     sh.started[i] = Some(Instant::now());
+                    sh.iterations[i] = 0;
                     let source = pick_source(
                         &cases[i],
                         cases,
@@ -214,8 +225,11 @@ fn worker(
             )),
             Ok(tmp) => {
                 let src_dir = source.map(|s| store.case_dir(&cases[s].name));
+                let progress = |iter: usize| {
+                    shared.lock().unwrap_or_else(|e| e.into_inner()).iterations[i] = iter;
+                };
                 std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    runner.run(case, src_dir.as_deref(), tmp)
+                    runner.run(case, src_dir.as_deref(), tmp, &progress)
                 }))
                 .unwrap_or_else(|p| Err(format!("panic: {}", panic_text(p))))
             }
@@ -332,7 +346,8 @@ fn make_record(
     }
 }
 
-/// Every `HEARTBEAT` while cases run, print which ones and for how long.
+/// Every `HEARTBEAT` while cases run, print which ones, for how long and at which solver
+/// iteration.
 fn heartbeat(cases: &[Case], shared: &Mutex<Shared>, wake: &Condvar) {
     let mut sh = shared.lock().unwrap_or_else(|e| e.into_inner());
     let mut last = Instant::now();
@@ -350,7 +365,14 @@ fn heartbeat(cases: &[Case], shared: &Mutex<Shared>, wake: &Condvar) {
             .iter()
             .enumerate()
             .filter_map(|(i, t)| {
-                t.map(|t| format!("{} ({})", cases[i].name, format_duration(t.elapsed())))
+                t.map(|t| {
+                    format!(
+                        "{} ({}, iteration {})",
+                        cases[i].name,
+                        format_duration(t.elapsed()),
+                        sh.iterations[i]
+                    )
+                })
             })
             .collect();
         if !running.is_empty() {

@@ -41,7 +41,14 @@ impl Fake {
 }
 
 impl CaseRunner for Fake {
-    fn run(&self, case: &Case, source: Option<&Path>, dir: &Path) -> Result<CaseOutcome, String> {
+    fn run(
+        &self,
+        case: &Case,
+        source: Option<&Path>,
+        dir: &Path,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<CaseOutcome, String> {
+        progress(1);
         let now = self.running.fetch_add(1, Ordering::SeqCst) + 1;
         self.max_running.fetch_max(now, Ordering::SeqCst);
         std::thread::sleep(self.sleep);
