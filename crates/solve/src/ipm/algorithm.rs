@@ -75,28 +75,23 @@ const MU_MAX: f64 = 1e5;
 const WATCHDOG_TRIAL_MAX: usize = 3;
 
 /// Reference values of the filter line search at the point a step starts from: constraint
-/// violation θ (1-norm, scaled), barrier objective φ and its directional derivative ∇φᵀd.
+/// violation θ (1-norm, scaled), barrier objective φ and its directional derivative ∇φᵀd;
+/// with the solve's bounds θ_min (switching condition) and θ_max (largest θ accepted).
 #[derive(Clone, Copy)]
 struct LsReference {
     theta: f64,
     phi: f64,
     gphi_d: f64,
+    theta_min: f64,
+    theta_max: f64,
 }
 
 impl LsReference {
     /// Filter acceptance of a trial point (θ, φ) at step size α (Wächter & Biegler 2006):
     /// None if rejected, else Some(whether the step passed the Armijo test of the
     /// switching condition, in which case the filter is not augmented).
-    fn accepts(
-        &self,
-        alpha: f64,
-        theta: f64,
-        phi: f64,
-        filter: &[(f64, f64)],
-        theta_min: f64,
-        theta_max: f64,
-    ) -> Option<bool> {
-        if !phi.is_finite() || theta > theta_max {
+    fn accepts(&self, alpha: f64, theta: f64, phi: f64, filter: &[(f64, f64)]) -> Option<bool> {
+        if !phi.is_finite() || theta > self.theta_max {
             return None;
         }
         if filter.iter().any(|&(ft, fp)| theta >= ft && phi >= fp) {
@@ -105,7 +100,7 @@ impl LsReference {
         let switching = self.gphi_d < 0.0
             && alpha * (-self.gphi_d).powf(S_PHI) > SWITCH_DELTA * self.theta.powf(S_THETA);
         let armijo = phi <= self.phi + ETA_PHI * alpha * self.gphi_d;
-        if switching && self.theta <= theta_min {
+        if switching && self.theta <= self.theta_min {
             return armijo.then_some(true);
         }
         if theta <= (1.0 - GAMMA_THETA) * self.theta || phi <= self.phi - GAMMA_PHI * self.theta {
@@ -209,9 +204,55 @@ impl State {
     /// in the mean-squared form): ‖r‖²/m + ‖∇L‖²/N + mean of (z (w − bound) − μ)², with the
     /// Lagrangian gradient `gl` (bound multipliers included) and residual `r` given.
     fn pd_barrier_error(&self, gl: &[f64], r: &[f64], mu: f64) -> f64 {
-        let pr = r.iter().map(|v| v * v).sum::<f64>() / self.m.max(1) as f64;
-        let du = gl.iter().map(|v| v * v).sum::<f64>() / self.big_n.max(1) as f64;
+        let (pr, du) = self.mean_squared_infeasibilities(gl, r);
         pr + du + self.mean_squared_complementarity(mu)
+    }
+
+    /// Mean squared primal infeasibility ‖r‖²/m and dual infeasibility ‖∇L‖²/N.
+    fn mean_squared_infeasibilities(&self, gl: &[f64], r: &[f64]) -> (f64, f64) {
+        (
+            r.iter().map(|v| v * v).sum::<f64>() / self.m.max(1) as f64,
+            gl.iter().map(|v| v * v).sum::<f64>() / self.big_n.max(1) as f64,
+        )
+    }
+
+    /// Mean and mean square of the complementarity products (w + α_p dw − bound)(z + α_d dz)
+    /// over all bounds after a primal step α_p dw and a bound-multiplier step α_d dz.
+    fn complementarity_after_step(
+        &self,
+        dw: &[f64],
+        dzl: &[f64],
+        dzu: &[f64],
+        ap: f64,
+        ad: f64,
+    ) -> (f64, f64) {
+        let (mut s, mut s2, mut cnt) = (0.0, 0.0, 0usize);
+        for j in 0..self.big_n {
+            if self.has_l[j] {
+                let p = (self.w[j] + ap * dw[j] - self.wl[j]) * (self.zl[j] + ad * dzl[j]);
+                s += p;
+                s2 += p * p;
+                cnt += 1;
+            }
+            if self.has_u[j] {
+                let p = (self.wu[j] - self.w[j] - ap * dw[j]) * (self.zu[j] + ad * dzu[j]);
+                s += p;
+                s2 += p * p;
+                cnt += 1;
+            }
+        }
+        let c = cnt.max(1) as f64;
+        (s / c, s2 / c)
+    }
+
+    /// A copy of the iterate without the Hessian values (the copies kept by soft
+    /// restoration and the watchdog never need them: the Hessian is evaluated again at
+    /// every accepted point before it is used).
+    fn clone_without_hessian(&mut self) -> State {
+        let hv = std::mem::take(&mut self.hv);
+        let copy = self.clone();
+        self.hv = hv;
+        copy
     }
 
     /// ∇L over w with the bound multipliers, fixed variables zeroed.
@@ -301,6 +342,44 @@ fn dual_fraction_to_boundary(st: &State, dzl: &[f64], dzu: &[f64], tau: f64) -> 
         }
     }
     a
+}
+
+/// Objective at the trial point wt = w + α d (slacks included in `wt`), with the constraint
+/// values written into `ct`.
+fn evaluate_trial(
+    prob: &mut ScaledNlp,
+    w: &[f64],
+    alpha: f64,
+    d: &[f64],
+    wt: &mut [f64],
+    ct: &mut [f64],
+) -> Result<f64, EvalError> {
+    for ((t, &x), &dx) in wt.iter_mut().zip(w).zip(d) {
+        *t = x + alpha * dx;
+    }
+    let x = &wt[..prob.nlp.n()];
+    let f = prob.objective(x)?;
+    prob.constraints(x, ct)?;
+    Ok(f)
+}
+
+/// Fiacco–McCormick decrease of μ: min(κ_μ μ, μ^θ_μ), not below `floor`.
+fn monotone_decrease(mu: f64, floor: f64) -> f64 {
+    floor.max((KAPPA_MU * mu).min(mu.powf(THETA_MU)))
+}
+
+/// μ on entering the fixed mode of the adaptive strategy: a fraction of the average
+/// complementarity (IPOPT `adaptive_mu_monotone_init_factor`).
+fn fixed_mode_mu(st: &State, floor: f64) -> f64 {
+    (FIXED_MU_FACTOR * st.average_complementarity()).clamp(floor, MU_MAX)
+}
+
+/// out = a + σ (b − a): the step for μ = σ·avg from the steps `a` (μ = 0) and `b` (μ = avg),
+/// the KKT right-hand side being affine in μ.
+fn combine(a: &[f64], b: &[f64], sigma: f64, out: &mut [f64]) {
+    for ((o, &x), &y) in out.iter_mut().zip(a).zip(b) {
+        *o = x + sigma * (y - x);
+    }
 }
 
 /// ∇φ_μ(w)ᵀ dw for the barrier function φ_μ = f − μ Σ ln(slacks to bounds).
@@ -807,11 +886,10 @@ pub fn solve(
     let globalisation = options.mu_globalisation_in_effect();
     let oracle = options.mu_oracle;
     // steps of the quality-function oracle for μ = 0 and μ = average complementarity
-    let (mut dw_aff, mut dw_avg) = if want_adaptive && oracle == MuOracle::QualityFunction {
-        (vec![0.0; big_n], vec![0.0; big_n])
-    } else {
-        (Vec::new(), Vec::new())
-    };
+    let qf = want_adaptive && oracle == MuOracle::QualityFunction;
+    let buf = |len: usize| vec![0.0; if qf { len } else { 0 }];
+    let (mut dw_aff, mut dw_avg) = (buf(big_n), buf(big_n));
+    let (mut dlam_aff, mut dlam_avg) = (buf(m), buf(m));
     // (objective, θ) of the accepted free-mode iterates (obj-constr-filter globalisation)
     let mut mu_filter: Vec<(f64, f64)> = Vec::new();
     let status: SolveStatus;
@@ -935,7 +1013,11 @@ pub fn solve(
         // low enough that the unscaled complementarity test (compl_inf_tol) can be met.
         let feasible = inf_pr_u <= options.constr_viol_tol && inf_du / s_d <= options.tol;
         let mu_floor = if globalisation == MuGlobalisation::ObjConstrFilter {
-            // IPOPT: the fixed mode decreases μ down to min(tol, compl_inf_tol)/(κ_ε + 1)
+            // IPOPT's fixed-mode floor min(tol, compl_inf_tol)/(κ_ε + 1), used in free mode
+            // too: IPOPT lets free-mode μ fall to mu_min ≈ 1e-11, which on the gait problem
+            // made the tail alternate between free-mode steps at μ ≈ 1e-11 (iterates pushed to
+            // their bounds) and fixed-mode steps at the floor pulling them back (decision
+            // 0002: 10 intervals, L-BFGS, 470 → 400 and 547 → 413 iterations).
             options.tol.min(options.compl_inf_tol * prob.obj_scale) / (KAPPA_EPS + 1.0)
         } else if feasible {
             options.tol.min(options.compl_inf_tol * prob.obj_scale) / 10.0
@@ -943,6 +1025,8 @@ pub fn solve(
             options.tol / 10.0
         };
 
+        // scaled optimality error of the barrier problem at μ
+        let barrier_error = |mu: f64| (inf_du / s_d).max(inf_pr).max(st.complementarity(mu) / s_c);
         if want_adaptive && globalisation == MuGlobalisation::ObjConstrFilter {
             // ---- IPOPT's default globalisation `obj-constr-filter` --------------------------
             // An iterate makes sufficient progress when (f + margin, θ + margin) is not
@@ -959,14 +1043,10 @@ pub fn solve(
                 mu_filter.push((st.f, theta));
             } else if adaptive {
                 adaptive = false;
-                mu = (FIXED_MU_FACTOR * st.average_complementarity()).clamp(mu_floor, 1e5);
-            } else {
+                mu = fixed_mode_mu(&st, mu_floor);
+            } else if barrier_error(mu) <= KAPPA_EPS * mu || tiny_step {
                 // fixed mode: one monotone decrease once the barrier problem is solved
-                let s_c_mu = st.complementarity(mu) / s_c;
-                let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
-                if err_mu <= KAPPA_EPS * mu || tiny_step {
-                    mu = mu_floor.max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
-                }
+                mu = monotone_decrease(mu, mu_floor);
             }
         } else {
             // ---- adaptive μ globalisation (IPOPT `adaptive_mu_globalization = kkt-error`) ------
@@ -990,7 +1070,7 @@ pub fn solve(
                     if !pd {
                         free_refs.clear();
                     }
-                    mu = (FIXED_MU_FACTOR * st.average_complementarity()).clamp(mu_floor, 1e5);
+                    mu = fixed_mode_mu(&st, mu_floor);
                 } else {
                     free_refs.push(pd_error);
                     if free_refs.len() > FREE_MODE_REFS {
@@ -1008,9 +1088,7 @@ pub fn solve(
             // ---- monotone barrier update ------------------------------------------------------
             if !adaptive {
                 for _ in 0..20 {
-                    let s_c_mu = st.complementarity(mu) / s_c;
-                    let err_mu = (inf_du / s_d).max(inf_pr).max(s_c_mu);
-                    if err_mu > KAPPA_EPS * mu || mu <= mu_floor {
+                    if barrier_error(mu) > KAPPA_EPS * mu || mu <= mu_floor {
                         break;
                     }
                     if want_adaptive && ls_failures == 0 && !feasible {
@@ -1020,7 +1098,7 @@ pub fn solve(
                         adaptive = true;
                         break;
                     }
-                    mu = (mu_floor).max((KAPPA_MU * mu).min(mu.powf(THETA_MU)));
+                    mu = monotone_decrease(mu, mu_floor);
                 }
             }
         }
@@ -1194,12 +1272,9 @@ pub fn solve(
         };
 
         // ---- adaptive μ: IPOPT's quality function -----------------------------------------
-        // Free mode uses the fixed mode's floor. IPOPT lets free-mode μ fall to mu_min ≈ 1e-11;
-        // on the gait problem that made the tail alternate between free-mode steps at μ ≈ 1e-11
-        // (iterates pushed to their bounds) and fixed-mode steps at the floor pulling them back
-        // (decision 0002: 10 intervals, L-BFGS, 470 → 400 and 547 → 413 iterations).
-        let free_floor = mu_floor;
         let avg = st.average_complementarity();
+        // the quality-function oracle leaves the final direction in dw, dlam
+        let mut direction_ready = false;
         if adaptive && oracle == MuOracle::QualityFunction && avg > 0.0 {
             // steps for μ = 0 and μ = avg; the step of σ is their affine combination
             direction(
@@ -1208,7 +1283,7 @@ pub fn solve(
                 &r,
                 &mut rhs,
                 &mut dw_aff,
-                &mut dlam,
+                &mut dlam_aff,
                 &mut lin_time,
             )?;
             direction(
@@ -1217,79 +1292,51 @@ pub fn solve(
                 &r,
                 &mut rhs,
                 &mut dw_avg,
-                &mut dlam,
+                &mut dlam_avg,
                 &mut lin_time,
             )?;
             let tau_q = (1.0 - err0).max(0.99);
-            let dual2 = gl.iter().map(|v| v * v).sum::<f64>() / big_n.max(1) as f64;
-            let primal2 = r.iter().map(|v| v * v).sum::<f64>() / m.max(1) as f64;
+            let (primal2, dual2) = st.mean_squared_infeasibilities(&gl, &r);
             let quality = |sigma: f64| -> f64 {
-                for j in 0..big_n {
-                    dw[j] = dw_aff[j] + sigma * (dw_avg[j] - dw_aff[j]);
-                }
+                combine(&dw_aff, &dw_avg, sigma, &mut dw);
                 bound_multiplier_steps(&st, sigma * avg, &dw, &mut dzl, &mut dzu);
                 let ap = fraction_to_boundary(&st, &st.w, &dw, tau_q);
                 let ad = dual_fraction_to_boundary(&st, &dzl, &dzu, tau_q);
-                let (mut c2, mut nc) = (0.0, 0usize);
-                for j in 0..big_n {
-                    if st.has_l[j] {
-                        let p = (st.w[j] + ap * dw[j] - st.wl[j]) * (st.zl[j] + ad * dzl[j]);
-                        c2 += p * p;
-                        nc += 1;
-                    }
-                    if st.has_u[j] {
-                        let p = (st.wu[j] - st.w[j] - ap * dw[j]) * (st.zu[j] + ad * dzu[j]);
-                        c2 += p * p;
-                        nc += 1;
-                    }
-                }
-                (1.0 - ad).powi(2) * dual2 + (1.0 - ap).powi(2) * primal2 + c2 / nc.max(1) as f64
+                let c2 = st.complementarity_after_step(&dw, &dzl, &dzu, ap, ad).1;
+                (1.0 - ad).powi(2) * dual2 + (1.0 - ap).powi(2) * primal2 + c2
             };
-            let sigma = choose_sigma(quality, free_floor / avg, MU_MAX / avg);
-            mu = (sigma * avg).clamp(free_floor, MU_MAX);
+            let sigma = choose_sigma(quality, mu_floor / avg, MU_MAX / avg);
+            mu = (sigma * avg).clamp(mu_floor, MU_MAX);
+            // the step of the final μ, without a third solve
+            combine(&dw_aff, &dw_avg, mu / avg, &mut dw);
+            combine(&dlam_aff, &dlam_avg, mu / avg, &mut dlam);
+            direction_ready = true;
         } else if adaptive {
             // ---- adaptive μ: Mehrotra probing with the affine-scaling direction -----------
             direction(&st, 0.0, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
-            for j in 0..big_n {
-                dzl[j] = if st.has_l[j] {
-                    -st.zl[j] - st.zl[j] / (st.w[j] - st.wl[j]) * dw[j]
-                } else {
-                    0.0
-                };
-                dzu[j] = if st.has_u[j] {
-                    -st.zu[j] + st.zu[j] / (st.wu[j] - st.w[j]) * dw[j]
-                } else {
-                    0.0
-                };
-            }
+            bound_multiplier_steps(&st, 0.0, &dw, &mut dzl, &mut dzu);
             let ap = fraction_to_boundary(&st, &st.w, &dw, 1.0);
             let ad = dual_fraction_to_boundary(&st, &dzl, &dzu, 1.0);
-            let (mut s, mut cnt) = (0.0, 0usize);
-            for j in 0..big_n {
-                if st.has_l[j] {
-                    s += (st.w[j] + ap * dw[j] - st.wl[j]) * (st.zl[j] + ad * dzl[j]);
-                    cnt += 1;
-                }
-                if st.has_u[j] {
-                    s += (st.wu[j] - st.w[j] - ap * dw[j]) * (st.zu[j] + ad * dzu[j]);
-                    cnt += 1;
-                }
-            }
-            if cnt > 0 && avg > 0.0 {
-                let aff = (s / cnt as f64).max(0.0);
+            if avg > 0.0 {
+                let aff = st
+                    .complementarity_after_step(&dw, &dzl, &dzu, ap, ad)
+                    .0
+                    .max(0.0);
                 let sig = (aff / avg).powi(3).min(1.0);
                 // safeguard: far from feasibility a small μ lets iterates hug their bounds
                 // and the multipliers run away (quasi-random gait guess); keep μ in
                 // proportion to the remaining infeasibility, never above the average
                 // complementarity
                 let lower = (options.mu_safeguard_factor() * (inf_du / s_d).max(inf_pr)).min(avg);
-                mu = (sig * avg).max(lower).clamp(free_floor, MU_MAX);
+                mu = (sig * avg).max(lower).clamp(mu_floor, MU_MAX);
             } else {
                 mu = mu_floor;
             }
         }
         tau = (1.0 - mu).max(0.99);
-        direction(&st, mu, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+        if !direction_ready {
+            direction(&st, mu, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+        }
         let mut alpha_max = fraction_to_boundary(&st, &st.w, &dw, tau);
 
         // ---- filter line search with second-order correction (Wächter & Biegler 2006) -------
@@ -1316,6 +1363,8 @@ pub fn solve(
             theta: theta0,
             phi: phi0,
             gphi_d,
+            theta_min,
+            theta_max,
         };
         let mut alpha = alpha_max;
         let mut trials = 0usize;
@@ -1335,10 +1384,8 @@ pub fn solve(
             && options.watchdog_trigger > 0
             && shortened_steps >= options.watchdog_trigger
         {
-            // the limited-memory mode's Hessian values are zeros: not stored
-            let hv_zero = (!exact).then(|| std::mem::take(&mut st.hv));
             watchdog = Some(Watchdog {
-                st: st.clone(),
+                st: st.clone_without_hessian(),
                 dw: dw.clone(),
                 dlam: dlam.clone(),
                 reference,
@@ -1347,9 +1394,6 @@ pub fn solve(
                 mu,
                 trials: 0,
             });
-            if let Some(hv) = hv_zero {
-                st.hv = hv;
-            }
             shortened_steps = 0;
             watchdog_starts += 1;
             if debug {
@@ -1359,25 +1403,13 @@ pub fn solve(
         let mut watchdog_step = false;
         if let Some(wd) = watchdog.as_mut() {
             trials = 1;
-            for j in 0..big_n {
-                wt[j] = st.w[j] + alpha_max * dw[j];
-            }
-            let ev = prob
-                .objective(&wt[..n])
-                .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f));
+            let ev = evaluate_trial(&mut prob, &st.w, alpha_max, &dw, &mut wt, &mut ct);
             let verdict = ev.as_ref().ok().map(|&f| {
                 st.residual(&wt, &ct, &mut rt);
                 let phi = st.barrier(f, &wt, mu);
                 (
                     f,
-                    wd.reference.accepts(
-                        alpha_max,
-                        one_norm(&rt),
-                        phi,
-                        &filter,
-                        theta_min,
-                        theta_max,
-                    ),
+                    wd.reference.accepts(alpha_max, one_norm(&rt), phi, &filter),
                 )
             });
             match verdict {
@@ -1398,10 +1430,11 @@ pub fn solve(
                 _ => {
                     // no acceptable full step: back to the starting point and its direction
                     let wd = watchdog.take().expect("watchdog active");
+                    // keep the Hessian buffer: its values are evaluated again at the next
+                    // accepted point before the KKT matrix is assembled
+                    let hv = std::mem::take(&mut st.hv);
                     st = wd.st;
-                    if !exact {
-                        st.hv = vec![0.0; prob.hess.nnz()];
-                    }
+                    st.hv = hv;
                     dw.copy_from_slice(&wd.dw);
                     dlam.copy_from_slice(&wd.dlam);
                     reference = wd.reference;
@@ -1421,20 +1454,13 @@ pub fn solve(
         let wnorm = inf_norm(&st.w).max(1.0);
         while !accepted {
             trials += 1;
-            for j in 0..big_n {
-                wt[j] = st.w[j] + alpha * dw[j];
-            }
-            let ev = prob
-                .objective(&wt[..n])
-                .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f));
+            let ev = evaluate_trial(&mut prob, &st.w, alpha, &dw, &mut wt, &mut ct);
             let mut theta_t = f64::INFINITY;
             if let Ok(f) = ev {
                 st.residual(&wt, &ct, &mut rt);
                 theta_t = one_norm(&rt);
                 let phi = st.barrier(f, &wt, mu);
-                if let Some(a) =
-                    reference.accepts(alpha, theta_t, phi, &filter, theta_min, theta_max)
-                {
+                if let Some(a) = reference.accepts(alpha, theta_t, phi, &filter) {
                     f_t = f;
                     accepted = true;
                     armijo_step = a;
@@ -1472,20 +1498,13 @@ pub fn solve(
                         &mut lin_time,
                     )?;
                     let a_soc = fraction_to_boundary(&st, &st.w, &dw_soc, tau);
-                    for j in 0..big_n {
-                        wt[j] = st.w[j] + a_soc * dw_soc[j];
-                    }
-                    let ev = prob
-                        .objective(&wt[..n])
-                        .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f));
+                    let ev = evaluate_trial(&mut prob, &st.w, a_soc, &dw_soc, &mut wt, &mut ct);
                     let Ok(f) = ev else { break };
                     st.residual(&wt, &ct, &mut rt);
                     theta_old = theta_soc;
                     theta_soc = one_norm(&rt);
                     let phi = st.barrier(f, &wt, mu);
-                    if let Some(a) =
-                        reference.accepts(alpha_max, theta_soc, phi, &filter, theta_min, theta_max)
-                    {
+                    if let Some(a) = reference.accepts(alpha_max, theta_soc, phi, &filter) {
                         f_t = f;
                         armijo_step = a;
                         soc_ok = true;
@@ -1536,10 +1555,7 @@ pub fn solve(
             let a = alpha_max.min(alpha_z);
             // r and gl still hold the residual and Lagrangian gradient of the current point
             let err_now = st.pd_barrier_error(&gl, &r, mu);
-            // the trial iterate needs no Hessian values: leave them out of the copy
-            let hv = std::mem::take(&mut st.hv);
-            let mut trial = st.clone();
-            st.hv = hv;
+            let mut trial = st.clone_without_hessian();
             let mut gl_t = vec![0.0; big_n];
             for j in 0..big_n {
                 trial.w[j] = st.w[j] + a * dw[j];
@@ -1639,13 +1655,7 @@ pub fn solve(
                     break;
                 }
                 filter.clear();
-                for j in 0..big_n {
-                    wt[j] = st.w[j] + alpha * dw[j];
-                }
-                match prob
-                    .objective(&wt[..n])
-                    .and_then(|f| prob.constraints(&wt[..n], &mut ct).map(|_| f))
-                {
+                match evaluate_trial(&mut prob, &st.w, alpha, &dw, &mut wt, &mut ct) {
                     Ok(f) => f_t = f,
                     Err(_) => {
                         status = SolveStatus::Failed(
