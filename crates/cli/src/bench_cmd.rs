@@ -21,6 +21,9 @@ pub enum BenchCommand {
     /// Gradient, constraints, sparse Jacobian and Hessian of the gait NLP at the
     /// data-informed guess, with 1 and all threads.
     Derivatives(DerivativesArgs),
+    /// The limited-memory KKT matrix of the gait NLP: fill, ordering, factorisation and
+    /// solve times under minimum degree and under the chain dissection.
+    Kkt(KktArgs),
     /// The nominal prediction (1.33 m/s) per backend, Hessian and initial guess: time,
     /// iterations, objective and peak memory (one child process per case).
     Predict(PredictArgs),
@@ -59,6 +62,17 @@ pub struct DerivativesArgs {
     /// Threads of the parallel run (default: all available cores).
     #[arg(long)]
     pub threads: Option<usize>,
+}
+
+/// Arguments of `stride bench kkt`.
+#[derive(Args)]
+pub struct KktArgs {
+    /// Mesh intervals (3 collocation points each).
+    #[arg(long, default_value_t = 50)]
+    pub mesh: usize,
+    /// Repetitions per factorisation (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    pub reps: usize,
 }
 
 /// Arguments of `stride bench predict`.
@@ -137,6 +151,7 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
     match cmd {
         BenchCommand::Solver(a) => solver(a),
         BenchCommand::Derivatives(a) => derivatives(a),
+        BenchCommand::Kkt(a) => kkt(a),
         BenchCommand::Predict(a) => predict_grid(a),
         BenchCommand::PredictOne(a) => predict_one(a),
     }
@@ -223,6 +238,17 @@ fn derivatives(a: DerivativesArgs) -> anyhow::Result<()> {
     let model = stride_model::default_model::default_model();
     let b = stride_ocp::bench::derivatives(&model, &settings, a.reps, &threads)?;
     print!("{}", stride_ocp::bench::derivatives_table(&b));
+    Ok(())
+}
+
+fn kkt(a: KktArgs) -> anyhow::Result<()> {
+    let settings = nominal_settings(a.mesh)?;
+    if a.reps == 0 {
+        bail!("--reps 0: at least one repetition is needed");
+    }
+    let model = stride_model::default_model::default_model();
+    let b = stride_ocp::bench::kkt(&model, &settings, a.reps)?;
+    print!("{}", stride_ocp::bench::kkt_table(&b));
     Ok(())
 }
 

@@ -1,4 +1,4 @@
-//! Timing of the derivatives of the transcribed gait problem (the NLP `stride predict`
+//! Timing of the derivatives and of the KKT factorisation of the transcribed gait problem (the NLP `stride predict`
 //! solves): objective gradient, constraints, sparse constraint Jacobian and sparse
 //! Lagrangian Hessian at the data-informed walking guess, with 1 and more threads, printed
 //! as a markdown table. Behind `stride bench derivatives`; nothing here asserts on speed.
@@ -229,6 +229,144 @@ pub fn derivatives_table(b: &DerivativeBench) -> String {
             let _ = write!(s, " {:.2} |", d.as_secs_f64() * 1e3);
         }
         let _ = writeln!(s, " {note} |");
+    }
+    s
+}
+
+/// One fill-reducing ordering of the gait KKT matrix and what it costs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KktOrderingTimes {
+    /// Ordering name as printed.
+    pub name: &'static str,
+    /// Nonzeros of the lower triangle of the KKT matrix (with or without the Hessian
+    /// pattern, as the interior point assembles it for that ordering).
+    pub kkt_nnz: usize,
+    /// Nonzeros of the factor L.
+    pub l_nnz: usize,
+    /// Ordering and symbolic analysis (once per solve).
+    pub analyse: Duration,
+    /// Median numeric LDLᵀ factorisation.
+    pub factor: Duration,
+    /// Median solve with 8 right-hand sides (one L-BFGS iteration's block solve).
+    pub solve8: Duration,
+}
+
+/// Factorisation of the limited-memory KKT matrix of the gait NLP per ordering.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KktBench {
+    /// Mesh intervals N.
+    pub mesh_intervals: usize,
+    /// KKT dimension n + m.
+    pub dim: usize,
+    /// Repetitions each time is the median of.
+    pub reps: usize,
+    /// One row per ordering.
+    pub orderings: Vec<KktOrderingTimes>,
+}
+
+/// Builds the gait NLP of `model` with `settings`, assembles the KKT matrix of the
+/// limited-memory interior point at the data-informed walking guess (B₀ = I, dual
+/// regularisation 1e-8) and times its ordering, factorisation and solves (median of
+/// `reps`) under minimum degree and under the chain dissection of the mesh intervals.
+pub fn kkt(model: &Model, settings: &ProblemSettings, reps: usize) -> Result<KktBench, BenchError> {
+    use stride_solve::ipm::kkt::KktPattern;
+    use stride_solve::ipm::linsys::{FaerLdlt, KktSolver};
+    use stride_solve::ipm::ordering::kkt_ordering;
+    use stride_solve::nlp::Sparsity;
+    use stride_solve::solver::KktOrdering;
+    if reps == 0 {
+        return Err(BenchError::Argument(
+            "reps 0: at least one repetition is needed".into(),
+        ));
+    }
+    let nlp = predict::transcribe(model, settings, GuessKind::DataInformedWalking)?;
+    let (n, m) = (nlp.n(), nlp.m());
+    let jac = nlp.jacobian_structure();
+    let hess = nlp.hessian_structure();
+    let mut x = vec![0.0; n];
+    nlp.initial_point(&mut x);
+    let mut jv = vec![0.0; jac.nnz()];
+    nlp.jacobian_values(&x, &mut jv)?;
+    let linear =
+        |e: stride_solve::ipm::linsys::LinearSolverError| BenchError::Argument(e.to_string());
+    let mut orderings = Vec::new();
+    for (name, choice) in [
+        (
+            "minimum degree (with Hessian pattern)",
+            KktOrdering::MinimumDegree,
+        ),
+        ("chain dissection", KktOrdering::Auto),
+    ] {
+        let pattern = match choice {
+            KktOrdering::MinimumDegree => KktPattern::new(n, m, &jac, &hess),
+            KktOrdering::Auto => KktPattern::new(n, m, &jac, &Sparsity::default()),
+        };
+        let mut vals = vec![0.0; pattern.nnz()];
+        let zero_h = vec![0.0; hess.nnz()];
+        pattern.assemble(&mut vals, &zero_h, &jv, &vec![1.0; n], &vec![1e-8; m]);
+        let mut solver = FaerLdlt::new();
+        let t = Instant::now();
+        let order = kkt_ordering(&nlp, &hess, &pattern, choice);
+        solver
+            .analyse(
+                pattern.dim,
+                &pattern.col_ptr,
+                &pattern.row_idx,
+                order.as_deref(),
+            )
+            .map_err(linear)?;
+        let analyse = t.elapsed();
+        let mut factor = Vec::new();
+        let mut solve8 = Vec::new();
+        let mut rhs = vec![0.0; 8 * pattern.dim];
+        for _ in 0..reps {
+            let t = Instant::now();
+            solver.factor(&vals).map_err(linear)?;
+            factor.push(t.elapsed());
+            rhs.iter_mut()
+                .enumerate()
+                .for_each(|(i, v)| *v = (i % 7) as f64 - 3.0);
+            let t = Instant::now();
+            solver.solve_many(&mut rhs, 8).map_err(linear)?;
+            solve8.push(t.elapsed());
+        }
+        orderings.push(KktOrderingTimes {
+            name,
+            kkt_nnz: pattern.nnz(),
+            l_nnz: solver.factor_nnz(),
+            analyse,
+            factor: median(factor),
+            solve8: median(solve8),
+        });
+    }
+    Ok(KktBench {
+        mesh_intervals: settings.mesh_intervals,
+        dim: n + m,
+        reps,
+        orderings,
+    })
+}
+
+/// Markdown report of [`kkt`]: one row per ordering.
+pub fn kkt_table(b: &KktBench) -> String {
+    let mut s = format!(
+        "## Limited-memory KKT matrix of the gait NLP ({} mesh intervals, dimension {}; \
+         faer supernodal LDLᵀ, one thread; median of {})\n\n\
+         | ordering | KKT nnz | L nnz | ordering + symbolic s | factorisation s | solve, 8 right-hand sides s |\n\
+         |---|---|---|---|---|---|\n",
+        b.mesh_intervals, b.dim, b.reps
+    );
+    for o in &b.orderings {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.3} | {:.3} | {:.3} |",
+            o.name,
+            o.kkt_nnz,
+            o.l_nnz,
+            o.analyse.as_secs_f64(),
+            o.factor.as_secs_f64(),
+            o.solve8.as_secs_f64()
+        );
     }
     s
 }

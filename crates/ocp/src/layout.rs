@@ -8,6 +8,8 @@
 //! collocation point; accelerations per collocation point. Within a block, the values of
 //! one point are contiguous.
 
+use stride_solve::nlp::BlockStructure;
+
 /// Sizes of one problem and the offsets of every variable block.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Layout {
@@ -152,6 +154,35 @@ impl Layout {
     pub fn n_states(&self) -> usize {
         2 * self.nm + 2 * self.nq + self.na
     }
+    /// The chain of mesh intervals for the KKT ordering: interval k owns the states of mesh
+    /// point k and of its collocation points and its controls; the last interval also owns
+    /// the final mesh point; t_f is global.
+    pub fn interval_blocks(&self) -> BlockStructure {
+        let blocks = (0..self.n)
+            .map(|k| {
+                let mut vars = Vec::new();
+                let mut points = vec![Point::Mesh(k)];
+                points.extend((1..=3).map(|j| Point::Col(k, j)));
+                if k + 1 == self.n {
+                    points.push(Point::Mesh(self.n));
+                }
+                for p in points {
+                    vars.extend((0..self.n_states()).map(|s| self.state(p, s)));
+                }
+                vars.extend((0..self.nm).map(|m| self.u_da(k, m)));
+                vars.extend((0..self.na).map(|i| self.e_arm(k, i)));
+                for j in 1..=3 {
+                    vars.extend((0..self.nm).map(|m| self.u_df(k, j, m)));
+                    vars.extend((0..self.nq).map(|i| self.u_dv(k, j, i)));
+                }
+                vars
+            })
+            .collect();
+        BlockStructure {
+            blocks,
+            global_variables: vec![self.tf()],
+        }
+    }
     /// Index of state component `s` (in the order a, F, q, v, arm) at point `p`.
     pub fn state(&self, p: Point, s: usize) -> usize {
         let (nm, nq) = (self.nm, self.nq);
@@ -177,6 +208,23 @@ mod tests {
     fn nominal_problem_has_73401_variables() {
         let l = Layout::new(50, 92, 29, 8);
         assert_eq!(l.len(), 73_401);
+    }
+
+    #[test]
+    fn interval_blocks_cover_every_variable_once() {
+        let l = Layout::new(4, 3, 5, 2);
+        let b = l.interval_blocks();
+        assert_eq!(b.blocks.len(), 4);
+        let mut count = vec![0usize; l.len()];
+        for v in b.blocks.iter().flatten().chain(&b.global_variables) {
+            count[*v] += 1;
+        }
+        assert!(count.iter().all(|&c| c == 1), "{count:?}");
+        // interval 1 owns mesh point 1 and the controls of interval 1, not mesh point 2
+        assert!(b.blocks[1].contains(&l.q(Point::Mesh(1), 0)));
+        assert!(b.blocks[1].contains(&l.u_da(1, 2)));
+        assert!(b.blocks[2].contains(&l.q(Point::Mesh(2), 0)));
+        assert!(b.blocks[3].contains(&l.v(Point::Mesh(4), 4)));
     }
 
     #[test]

@@ -13,7 +13,7 @@ use crate::radau;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::Mutex;
-use stride_solve::nlp::{EvalError, Nlp, NlpFunction, Sparsity};
+use stride_solve::nlp::{BlockStructure, EvalError, Nlp, NlpFunction, Sparsity};
 
 /// The model function of one collocation point and its sparse derivatives.
 ///
@@ -599,6 +599,9 @@ fn check(function: NlpFunction, v: &[f64]) -> Result<(), EvalError> {
 impl<F: NodeFunction> Nlp for Transcription<F> {
     fn n(&self) -> usize {
         self.problem.layout.len()
+    }
+    fn blocks(&self) -> Option<BlockStructure> {
+        Some(self.problem.layout.interval_blocks())
     }
     fn m(&self) -> usize {
         self.n_constraints

@@ -17,8 +17,6 @@
 // Index loops over several parallel arrays are clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use std::ops::Range;
-
 use thiserror::Error;
 
 /// Which problem function an evaluation error or check refers to.
@@ -100,29 +98,20 @@ impl Sparsity {
     }
 }
 
-/// One block of a structured problem (e.g. one collocation mesh interval): the contiguous
-/// variable and constraint index ranges it owns.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Block {
-    /// Variables owned by this block (e.g. the interval's collocation-point states, controls).
-    pub variables: Range<usize>,
-    /// Constraints owned by this block (e.g. collocation, path and continuity constraints).
-    pub constraints: Range<usize>,
-}
-
-/// The block (collocation) structure of a problem, for structure-exploiting linear solvers.
+/// The chain (collocation) structure of a problem's variables, for fill-reducing orderings
+/// of the KKT matrix.
 ///
-/// Block `k` couples only with the variables of blocks `k-1`, `k`, `k+1` and with the
-/// `global_variables` (e.g. the final time); constraints not in any block are global
-/// (boundary constraints).
+/// The variables of block `k` (e.g. one mesh interval's states and controls) appear in
+/// constraints and Hessian entries together with those of blocks `k-1`, `k`, `k+1` and with
+/// the `global_variables` (e.g. the final time) only; constraints joining distant blocks
+/// (periodicity) are allowed and are recognised from the Jacobian. Variables in no list are
+/// treated as global.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct BlockStructure {
-    /// The blocks, in chain order.
-    pub blocks: Vec<Block>,
-    /// Variables coupling to every block (e.g. final time, initial mesh-point states).
+    /// Variable indices of each block, in chain order.
+    pub blocks: Vec<Vec<usize>>,
+    /// Variables coupling to every block (e.g. final time).
     pub global_variables: Vec<usize>,
-    /// Constraints not owned by a block (boundary conditions, periodicity).
-    pub global_constraints: Vec<usize>,
 }
 
 /// A smooth nonlinear program with sparse first and second derivatives.
@@ -246,7 +235,7 @@ pub enum NlpError {
         /// Its column.
         col: usize,
     },
-    /// A block range lies outside the problem or blocks overlap.
+    /// A block lists a variable outside the problem or a variable twice.
     #[error("block structure: {0}")]
     InvalidBlocks(String),
 }
@@ -350,27 +339,31 @@ pub fn validate_sparsity(
     Ok(())
 }
 
-/// Checks a block structure: ranges inside the problem and not overlapping.
-pub fn validate_blocks(b: &BlockStructure, n: usize, m: usize) -> Result<(), NlpError> {
-    let mut vars: Vec<&Range<usize>> = b.blocks.iter().map(|k| &k.variables).collect();
-    let mut cons: Vec<&Range<usize>> = b.blocks.iter().map(|k| &k.constraints).collect();
-    for (what, ranges, size) in [("variable", &mut vars, n), ("constraint", &mut cons, m)] {
-        ranges.sort_by_key(|r| r.start);
-        for r in ranges.iter() {
-            if r.start > r.end || r.end > size {
+/// Checks a block structure: indices inside the problem, none listed twice.
+pub fn validate_blocks(b: &BlockStructure, n: usize) -> Result<(), NlpError> {
+    let mut owner: Vec<Option<String>> = vec![None; n];
+    let lists = b
+        .blocks
+        .iter()
+        .enumerate()
+        .map(|(k, vars)| (format!("block {k}"), vars))
+        .chain(std::iter::once((
+            "the global variables".to_string(),
+            &b.global_variables,
+        )));
+    for (name, vars) in lists {
+        for &v in vars {
+            if v >= n {
                 return Err(NlpError::InvalidBlocks(format!(
-                    "{what} range {}..{} outside 0..{size}",
-                    r.start, r.end
+                    "{name} lists variable {v}, outside 0..{n}"
                 )));
             }
-        }
-        for w in ranges.windows(2) {
-            if w[0].end > w[1].start {
+            if let Some(first) = &owner[v] {
                 return Err(NlpError::InvalidBlocks(format!(
-                    "{what} ranges {}..{} and {}..{} overlap",
-                    w[0].start, w[0].end, w[1].start, w[1].end
+                    "variable {v} is listed in {first} and in {name}"
                 )));
             }
+            owner[v] = Some(name.clone());
         }
     }
     Ok(())
@@ -393,7 +386,7 @@ pub fn validate_structures(nlp: &dyn Nlp) -> Result<Structures, NlpError> {
     let hessian = nlp.hessian_structure();
     validate_sparsity(NlpFunction::Hessian, &hessian, n, n, true)?;
     if let Some(b) = nlp.blocks() {
-        validate_blocks(&b, n, m)?;
+        validate_blocks(&b, n)?;
     }
     Ok(Structures { jacobian, hessian })
 }
@@ -640,4 +633,33 @@ pub fn check_derivatives(
         report.columns_checked += 1;
     }
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn block_lists_must_stay_inside_the_problem_and_not_repeat() {
+        let ok = BlockStructure {
+            blocks: vec![vec![0, 1], vec![2, 3]],
+            global_variables: vec![4],
+        };
+        assert_eq!(validate_blocks(&ok, 5), Ok(()));
+        let outside = BlockStructure {
+            blocks: vec![vec![0, 7]],
+            global_variables: vec![],
+        };
+        let e = validate_blocks(&outside, 5).unwrap_err().to_string();
+        assert!(e.contains("block 0 lists variable 7"), "{e}");
+        let twice = BlockStructure {
+            blocks: vec![vec![0, 1], vec![1, 2]],
+            global_variables: vec![],
+        };
+        let e = validate_blocks(&twice, 5).unwrap_err().to_string();
+        assert!(
+            e.contains("variable 1 is listed in block 0 and in block 1"),
+            "{e}"
+        );
+    }
 }

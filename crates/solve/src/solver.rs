@@ -65,6 +65,17 @@ pub enum MuOracle {
     QualityFunction,
 }
 
+/// Fill-reducing ordering of the KKT matrix of the pure-Rust interior point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum KktOrdering {
+    /// Nested dissection along the problem's chain of blocks (mesh intervals) when it
+    /// declares them ([`crate::nlp::Nlp::blocks`]), minimum degree otherwise.
+    #[default]
+    Auto,
+    /// Approximate minimum degree on the whole matrix.
+    MinimumDegree,
+}
+
 /// Solver settings shared by all backends (defaults follow IPOPT's).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -116,6 +127,10 @@ pub struct SolverOptions {
     /// the point where the watchdog started, and return there if none is acceptable
     /// (default 10; 0 disables it; the IPOPT backend ignores it).
     pub watchdog_trigger: usize,
+    /// KKT ordering of the pure-Rust interior point (default `Auto`: chain dissection for
+    /// collocation problems, 2.4× faster factorisations of the 50-interval gait KKT than
+    /// minimum degree, decision 0002; the IPOPT backend ignores it).
+    pub kkt_ordering: KktOrdering,
     /// Apply gradient-based NLP scaling (IPOPT default).
     pub nlp_scaling: bool,
     /// Largest gradient entry after scaling (IPOPT `nlp_scaling_max_gradient`, 100).
@@ -165,6 +180,7 @@ impl Default for SolverOptions {
             mu_oracle: MuOracle::Probing,
             soft_restoration: true,
             watchdog_trigger: 10,
+            kkt_ordering: KktOrdering::Auto,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
             bound_push: 1e-2,

@@ -48,12 +48,15 @@ pub struct Inertia {
 pub trait KktSolver: Send {
     /// Short name for logs and benchmarks.
     fn name(&self) -> &str;
-    /// Symbolic analysis of the fixed lower-triangular pattern (dimension `dim`).
+    /// Symbolic analysis of the fixed lower-triangular pattern (dimension `dim`), with the
+    /// elimination order `ordering` (`ordering[k]` = row eliminated `k`-th) or, if None, the
+    /// solver's own fill-reducing ordering.
     fn analyse(
         &mut self,
         dim: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
+        ordering: Option<&[usize]>,
     ) -> Result<(), LinearSolverError>;
     /// Numeric factorisation with the given values (same order as `row_idx`); returns the
     /// inertia of the matrix.
@@ -79,7 +82,33 @@ pub trait KktSolver: Send {
     }
 }
 
-/// faer's sparse LDLᵀ (AMD ordering, supernodal or simplicial by faer's flop heuristic),
+/// `perm` inverted, after checking it is a permutation.
+fn inverse_permutation(perm: &[usize]) -> Result<Vec<usize>, LinearSolverError> {
+    let mut inv = vec![usize::MAX; perm.len()];
+    for (k, &v) in perm.iter().enumerate() {
+        if v >= perm.len() || inv[v] != usize::MAX {
+            return Err(LinearSolverError::Symbolic(format!(
+                "the ordering is not a permutation of 0..{} (entry {k} = {v})",
+                perm.len()
+            )));
+        }
+        inv[v] = k;
+    }
+    Ok(inv)
+}
+
+/// faer's ordering choice: the given permutation (with its inverse) or AMD.
+fn symmetric_ordering<'a>(
+    perm: Option<&'a [usize]>,
+    inverse: Option<&'a [usize]>,
+) -> SymmetricOrdering<'a, usize> {
+    match (perm, inverse) {
+        (Some(p), Some(i)) => SymmetricOrdering::Custom(PermRef::new_checked(p, i, p.len())),
+        _ => SymmetricOrdering::Amd,
+    }
+}
+
+/// faer's sparse LDLᵀ (AMD or a given ordering, supernodal or simplicial by faer's flop heuristic),
 /// without pivoting: meant for quasi-definite (regularised) KKT matrices.
 pub struct FaerLdlt {
     dim: usize,
@@ -166,6 +195,7 @@ impl KktSolver for FaerLdlt {
         dim: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
+        ordering: Option<&[usize]>,
     ) -> Result<(), LinearSolverError> {
         self.dim = dim;
         self.col_ptr = col_ptr.to_vec();
@@ -177,10 +207,11 @@ impl KktSolver for FaerLdlt {
             None,
             &self.row_idx,
         );
+        let inverse = ordering.map(inverse_permutation).transpose()?;
         let sym = factorize_symbolic_cholesky(
             a,
             Side::Lower,
-            SymmetricOrdering::Amd,
+            symmetric_ordering(ordering, inverse.as_deref()),
             CholeskySymbolicParams::default(),
         )
         .map_err(|e| LinearSolverError::Symbolic(format!("{e:?}")))?;
@@ -385,6 +416,7 @@ impl KktSolver for FaerLblt {
         dim: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
+        ordering: Option<&[usize]>,
     ) -> Result<(), LinearSolverError> {
         self.dim = dim;
         self.col_ptr = col_ptr.to_vec();
@@ -396,10 +428,11 @@ impl KktSolver for FaerLblt {
             None,
             &self.row_idx,
         );
+        let inverse = ordering.map(inverse_permutation).transpose()?;
         let sym = factorize_symbolic_cholesky(
             a,
             Side::Lower,
-            SymmetricOrdering::Amd,
+            symmetric_ordering(ordering, inverse.as_deref()),
             CholeskySymbolicParams {
                 supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
                 ..Default::default()
@@ -492,7 +525,7 @@ mod tests {
         let row_idx = [0, 1, 2, 1, 2, 2];
         let vals = [4.0, 1.0, 1.0, 3.0, 2.0, -1.0];
         let mut s = FaerLdlt::new();
-        s.analyse(3, &col_ptr, &row_idx).unwrap();
+        s.analyse(3, &col_ptr, &row_idx, None).unwrap();
         let inertia = s.factor(&vals).unwrap();
         assert_eq!((inertia.positive, inertia.negative), (2, 1));
         // x = (1, 2, 3): b = K x = (4+2+3, 1+6+6, 1+4-3) = (9, 13, 2)
@@ -519,7 +552,7 @@ mod tests {
         let xs = [[1.0, 2.0, 3.0], [-1.0, 0.0, 2.0], [0.0, 1.0, -1.0]];
         let mut b: Vec<f64> = xs.iter().flat_map(|&x| k(x)).collect();
         let mut s = FaerLdlt::new();
-        s.analyse(3, &col_ptr, &row_idx).unwrap();
+        s.analyse(3, &col_ptr, &row_idx, None).unwrap();
         s.factor(&vals).unwrap();
         s.solve_many(&mut b, 3).unwrap();
         for (got, want) in b.iter().zip(xs.iter().flatten()) {
@@ -536,7 +569,7 @@ mod tests {
         let row_idx = [0, 1, 1, 2, 2];
         let vals = [0.0, 1.0, 0.0, 2.0, 0.5];
         let mut s = FaerLblt::new();
-        s.analyse(3, &col_ptr, &row_idx).unwrap();
+        s.analyse(3, &col_ptr, &row_idx, None).unwrap();
         let inertia = s.factor(&vals).unwrap();
         assert_eq!(
             (inertia.positive, inertia.negative, inertia.zero),
@@ -556,7 +589,7 @@ mod tests {
         let row_idx = [0, 1, 2, 1, 2, 2];
         let vals = [4.0, 1.0, 1.0, 3.0, 2.0, -1.0];
         let mut s = FaerLblt::new();
-        s.analyse(3, &col_ptr, &row_idx).unwrap();
+        s.analyse(3, &col_ptr, &row_idx, None).unwrap();
         let inertia = s.factor(&vals).unwrap();
         assert_eq!((inertia.positive, inertia.negative), (2, 1));
         let mut b = [9.0, 13.0, 2.0];

@@ -3,6 +3,7 @@
 //! - [`algorithm`]: the barrier iteration (μ update, inertia correction, line search).
 //! - [`kkt`]: the condensed KKT matrix pattern and its assembly.
 //! - [`linsys`]: the swappable sparse symmetric linear solver (faer LDLᵀ).
+//! - [`ordering`]: nested dissection of the KKT matrix along a chain of mesh intervals.
 //! - [`lbfgs`]: the compact limited-memory BFGS Hessian and its low-rank KKT correction.
 //! - [`scaled`]: gradient-based problem scaling and evaluation accounting.
 
@@ -11,6 +12,7 @@ pub mod kkt;
 pub mod lbfgs;
 pub mod linsys;
 mod mu_oracle;
+pub mod ordering;
 pub mod scaled;
 
 use crate::nlp::Nlp;

@@ -8,8 +8,8 @@ use crate::problems::{
     Hs006, Hs021, Hs035, Hs071, InfeasibleDisk, PendulumChain, RosenbrockDisk, WaechterBiegler,
 };
 use crate::solver::{
-    HessianMode, MuGlobalisation, MuOracle, MuStrategy, SolveError, SolveResult, SolveStatus,
-    Solver, SolverOptions,
+    HessianMode, KktOrdering, MuGlobalisation, MuOracle, MuStrategy, SolveError, SolveResult,
+    SolveStatus, Solver, SolverOptions,
 };
 
 fn run(nlp: &dyn Nlp, opts: &SolverOptions) -> SolveResult {
@@ -218,6 +218,37 @@ fn collocation_problem_converges_and_satisfies_dynamics() {
             r.constraint_violation
         );
         assert!(r.objective > 0.0);
+    }
+}
+
+#[test]
+fn chain_dissection_and_minimum_degree_reach_the_same_collocation_optimum() {
+    // The ordering changes only the pivot order of the KKT factorisation.
+    let p = PendulumChain::new(3, 40);
+    for hessian in [
+        HessianMode::Exact,
+        HessianMode::LimitedMemory { history: 6 },
+    ] {
+        let solve = |kkt_ordering| {
+            run(
+                &p,
+                &SolverOptions {
+                    hessian,
+                    kkt_ordering,
+                    max_iter: 1000,
+                    ..SolverOptions::default()
+                },
+            )
+        };
+        let (a, b) = (solve(KktOrdering::Auto), solve(KktOrdering::MinimumDegree));
+        assert!(a.status.is_success() && b.status.is_success());
+        let rel = (a.objective - b.objective).abs() / b.objective;
+        assert!(
+            rel < 1e-6,
+            "{hessian:?}: {} vs {}",
+            a.objective,
+            b.objective
+        );
     }
 }
 

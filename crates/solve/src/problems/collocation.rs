@@ -11,7 +11,7 @@
 //! Variables per interval: mesh state (2K) then for each collocation point j = 1..3 the
 //! states (2K) and controls (K): 11K; plus the final mesh state (2K).
 
-use crate::nlp::{Block, BlockStructure, EvalError, Nlp, Sparsity};
+use crate::nlp::{BlockStructure, EvalError, Nlp, Sparsity};
 
 /// Radau collocation coefficients C[r][j−1] = ℓ_r'(τ_j) (FORMULATION 8.2).
 pub const RADAU_C: [[f64; 3]; 4] = [
@@ -273,18 +273,14 @@ impl Nlp for PendulumChain {
         Ok(())
     }
     fn blocks(&self) -> Option<BlockStructure> {
-        let (nv, nc) = (self.vars_per_interval(), self.cons_per_interval());
+        let nv = self.vars_per_interval();
         Some(BlockStructure {
             blocks: (0..self.intervals)
-                .map(|k| Block {
-                    variables: k * nv..(k + 1) * nv,
-                    constraints: k * nc..(k + 1) * nc,
-                })
+                .map(|k| (k * nv..(k + 1) * nv).collect())
                 .collect(),
             global_variables: (0..2 * self.links)
                 .map(|c| self.state(self.intervals, 0, c))
                 .collect(),
-            global_constraints: (0..4 * self.links).map(|w| self.row_global(w)).collect(),
         })
     }
 }
