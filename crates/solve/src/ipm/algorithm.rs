@@ -375,6 +375,75 @@ fn fixed_mode_mu(st: &State, floor: f64) -> f64 {
     (FIXED_MU_FACTOR * st.average_complementarity()).clamp(floor, MU_MAX)
 }
 
+/// Right-hand side of the condensed KKT system at barrier parameter μ: first block
+/// −(∇f + Jᵀλ − μ/(x−L) + μ/(U−x)) (zero for fixed variables), then −r on rows without a
+/// slack and −r − r_s/σ on slack rows; `r_s` receives the slack residuals −λ + barrier
+/// terms. Affine in μ.
+#[allow(clippy::too_many_arguments)]
+fn newton_rhs(
+    st: &State,
+    mu: f64,
+    r: &[f64],
+    jac_rows: &[usize],
+    jac_cols: &[usize],
+    fixed_x: &[bool],
+    sigma: &[f64],
+    rhs: &mut [f64],
+    r_s: &mut [f64],
+) {
+    let n = st.n;
+    rhs[..n].copy_from_slice(&st.grad);
+    for k in 0..st.jv.len() {
+        rhs[jac_cols[k]] += st.jv[k] * st.lam[jac_rows[k]];
+    }
+    for j in 0..st.big_n {
+        let mut b = 0.0;
+        if st.has_l[j] {
+            b -= mu / (st.w[j] - st.wl[j]);
+        }
+        if st.has_u[j] {
+            b += mu / (st.wu[j] - st.w[j]);
+        }
+        if j < n {
+            rhs[j] = if fixed_x[j] { 0.0 } else { -(rhs[j] + b) };
+        } else {
+            r_s[j - n] = -st.lam[st.row_of_slack[j - n]] + b;
+        }
+    }
+    for (i, &ri) in r.iter().enumerate() {
+        let k = st.slack_of_row[i];
+        rhs[n + i] = if k == NO_SLACK {
+            -ri
+        } else {
+            -ri - r_s[k] / sigma[n + k].max(1e-20)
+        };
+    }
+}
+
+/// The primal-dual step (dw with slack steps, dlam) from the solution `sol` of the condensed
+/// KKT system and the slack residuals `r_s` of its right-hand side.
+fn step_from_solution(
+    st: &State,
+    sol: &[f64],
+    r_s: &[f64],
+    fixed_x: &[bool],
+    sigma: &[f64],
+    dw: &mut [f64],
+    dlam: &mut [f64],
+) {
+    let n = st.n;
+    dw[..n].copy_from_slice(&sol[..n]);
+    for j in 0..n {
+        if fixed_x[j] {
+            dw[j] = 0.0;
+        }
+    }
+    dlam.copy_from_slice(&sol[n..]);
+    for (k, &i) in st.row_of_slack.iter().enumerate() {
+        dw[n + k] = (dlam[i] - r_s[k]) / sigma[n + k].max(1e-20);
+    }
+}
+
 /// out = a + σ (b − a): the step for μ = σ·avg from the steps `a` (μ = 0) and `b` (μ = avg),
 /// the KKT right-hand side being affine in μ.
 fn combine(a: &[f64], b: &[f64], sigma: f64, out: &mut [f64]) {
@@ -901,8 +970,11 @@ pub fn solve(
     let globalisation = options.mu_globalisation_in_effect();
     let oracle = options.mu_oracle;
     // steps of the quality-function oracle for μ = 0 and μ = average complementarity
-    let qf = want_adaptive && oracle == MuOracle::QualityFunction;
-    let buf = |len: usize| vec![0.0; if qf { len } else { 0 }];
+    // (also the steps solved with the limited-memory correction)
+    let pair = (want_adaptive && oracle == MuOracle::QualityFunction) || !exact;
+    let buf = |len: usize| vec![0.0; if pair { len } else { 0 }];
+    // right-hand sides and slack residuals of those steps, and the block they are solved in
+    let (mut early_rhs, mut early_rs, mut early_block) = (Vec::new(), Vec::new(), Vec::new());
     let (mut dw_aff, mut dw_avg) = (buf(big_n), buf(big_n));
     let (mut dlam_aff, mut dlam_avg) = (buf(m), buf(m));
     // (objective, θ) of the accepted free-mode iterates (obj-constr-filter globalisation)
@@ -1194,10 +1266,67 @@ pub fn solve(
         if delta_w > 0.0 {
             delta_w_last = delta_w;
         }
+        // With the limited-memory correction, the Newton steps this iteration needs are
+        // solved in the same block solve as the correction's columns (one pass over the
+        // factor instead of one per step): in free mode the steps for μ = 0 and μ = average
+        // complementarity (the step of any μ is their affine combination), in fixed mode
+        // the step for μ. They are left in dw_aff/dlam_aff and dw_avg/dlam_avg.
+        let avg = st.average_complementarity();
+        let mut early_ready = false;
         let correction = match &lbfgs {
             Some(lb) if !lb.is_empty() => {
                 let t_lin = Instant::now();
-                let c = LowRankCorrection::new(lb, n, dim, |v, k| linear.solve_many(v, k).is_ok());
+                let early_mus: &[f64] = if !adaptive {
+                    &[mu]
+                } else if avg > 0.0 {
+                    &[0.0, avg]
+                } else {
+                    &[]
+                };
+                let k0 = early_mus.len();
+                early_rhs.resize(k0 * dim, 0.0);
+                early_rs.resize(k0 * ni, 0.0);
+                for (c, &mu_c) in early_mus.iter().enumerate() {
+                    newton_rhs(
+                        &st,
+                        mu_c,
+                        &r,
+                        &jac_rows,
+                        &jac_cols,
+                        &fixed_x,
+                        &sigma,
+                        &mut early_rhs[c * dim..(c + 1) * dim],
+                        &mut early_rs[c * ni..(c + 1) * ni],
+                    );
+                }
+                let mut early_ok = false;
+                let c = LowRankCorrection::new(lb, n, dim, |v, k| {
+                    early_block.clear();
+                    early_block.extend_from_slice(v);
+                    early_block.extend_from_slice(&early_rhs);
+                    let ok = linear.solve_many(&mut early_block, k + k0).is_ok();
+                    v.copy_from_slice(&early_block[..k * dim]);
+                    early_rhs.copy_from_slice(&early_block[k * dim..]);
+                    early_ok = ok;
+                    ok
+                });
+                if let (Some(c), true) = (&c, early_ok && k0 > 0) {
+                    let outputs = [(&mut dw_aff, &mut dlam_aff), (&mut dw_avg, &mut dlam_avg)];
+                    for (col, (dw_c, dlam_c)) in outputs.into_iter().take(k0).enumerate() {
+                        let sol = &mut early_rhs[col * dim..(col + 1) * dim];
+                        c.apply(sol);
+                        step_from_solution(
+                            &st,
+                            sol,
+                            &early_rs[col * ni..(col + 1) * ni],
+                            &fixed_x,
+                            &sigma,
+                            dw_c,
+                            dlam_c,
+                        );
+                    }
+                    early_ready = true;
+                }
                 lin_time += t_lin.elapsed();
                 c
             }
@@ -1216,33 +1345,9 @@ pub fn solve(
                              dlam: &mut [f64],
                              lin_time: &mut Duration|
          -> Result<(), SolveError> {
-            // first block: −(∇f + Jᵀλ − μ/(x−L) + μ/(U−x)); slack part r_s
-            rhs[..n].copy_from_slice(&st.grad);
-            for k in 0..st.jv.len() {
-                rhs[jac_cols[k]] += st.jv[k] * st.lam[jac_rows[k]];
-            }
-            for j in 0..big_n {
-                let mut b = 0.0;
-                if st.has_l[j] {
-                    b -= mu / (st.w[j] - st.wl[j]);
-                }
-                if st.has_u[j] {
-                    b += mu / (st.wu[j] - st.w[j]);
-                }
-                if j < n {
-                    rhs[j] = if fixed_x[j] { 0.0 } else { -(rhs[j] + b) };
-                } else {
-                    r_s[j - n] = -st.lam[st.row_of_slack[j - n]] + b;
-                }
-            }
-            for i in 0..m {
-                let k = st.slack_of_row[i];
-                rhs[n + i] = if k == NO_SLACK {
-                    -r[i]
-                } else {
-                    -r[i] - r_s[k] / sigma[n + k].max(1e-20)
-                };
-            }
+            newton_rhs(
+                st, mu, r, &jac_rows, &jac_cols, &fixed_x, &sigma, rhs, &mut r_s,
+            );
             let t = Instant::now();
             b_save.copy_from_slice(rhs);
             linear
@@ -1273,43 +1378,41 @@ pub fn solve(
                 }
             }
             *lin_time += t.elapsed();
-            dw[..n].copy_from_slice(&rhs[..n]);
-            for j in 0..n {
-                if fixed_x[j] {
-                    dw[j] = 0.0;
-                }
-            }
-            dlam.copy_from_slice(&rhs[n..]);
-            for (k, &i) in st.row_of_slack.iter().enumerate() {
-                dw[n + k] = (dlam[i] - r_s[k]) / sigma[n + k].max(1e-20);
-            }
+            step_from_solution(st, rhs, &r_s, &fixed_x, &sigma, dw, dlam);
             Ok(())
         };
 
         // ---- adaptive μ: IPOPT's quality function -----------------------------------------
-        let avg = st.average_complementarity();
         // the quality-function oracle leaves the final direction in dw, dlam
         let mut direction_ready = false;
+        if !adaptive && early_ready {
+            // fixed mode: the step for μ came with the correction's block solve
+            dw.copy_from_slice(&dw_aff);
+            dlam.copy_from_slice(&dlam_aff);
+            direction_ready = true;
+        }
         if adaptive && oracle == MuOracle::QualityFunction && avg > 0.0 {
             // steps for μ = 0 and μ = avg; the step of σ is their affine combination
-            direction(
-                &st,
-                0.0,
-                &r,
-                &mut rhs,
-                &mut dw_aff,
-                &mut dlam_aff,
-                &mut lin_time,
-            )?;
-            direction(
-                &st,
-                avg,
-                &r,
-                &mut rhs,
-                &mut dw_avg,
-                &mut dlam_avg,
-                &mut lin_time,
-            )?;
+            if !early_ready {
+                direction(
+                    &st,
+                    0.0,
+                    &r,
+                    &mut rhs,
+                    &mut dw_aff,
+                    &mut dlam_aff,
+                    &mut lin_time,
+                )?;
+                direction(
+                    &st,
+                    avg,
+                    &r,
+                    &mut rhs,
+                    &mut dw_avg,
+                    &mut dlam_avg,
+                    &mut lin_time,
+                )?;
+            }
             let tau_q = (1.0 - err0).max(0.99);
             let (primal2, dual2) = st.mean_squared_infeasibilities(&gl, &r);
             let quality = |sigma: f64| -> f64 {
@@ -1328,7 +1431,12 @@ pub fn solve(
             direction_ready = true;
         } else if adaptive {
             // ---- adaptive μ: Mehrotra probing with the affine-scaling direction -----------
-            direction(&st, 0.0, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+            if early_ready {
+                dw.copy_from_slice(&dw_aff);
+                dlam.copy_from_slice(&dlam_aff);
+            } else {
+                direction(&st, 0.0, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+            }
             bound_multiplier_steps(&st, 0.0, &dw, &mut dzl, &mut dzu);
             let ap = fraction_to_boundary(&st, &st.w, &dw, 1.0);
             let ad = dual_fraction_to_boundary(&st, &dzl, &dzu, 1.0);
@@ -1344,6 +1452,12 @@ pub fn solve(
                 // complementarity
                 let lower = (options.mu_safeguard_factor() * (inf_du / s_d).max(inf_pr)).min(avg);
                 mu = (sig * avg).max(lower).clamp(mu_floor, MU_MAX);
+                if early_ready {
+                    // the step of the final μ, without another solve
+                    combine(&dw_aff, &dw_avg, mu / avg, &mut dw);
+                    combine(&dlam_aff, &dlam_avg, mu / avg, &mut dlam);
+                    direction_ready = true;
+                }
             } else {
                 mu = mu_floor;
             }
