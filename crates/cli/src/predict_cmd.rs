@@ -33,7 +33,8 @@ pub struct PredictArgs {
     /// Solver backend: ipm (pure Rust, default) or ipopt (needs the `ipopt` feature).
     #[arg(long)]
     pub solver: Option<String>,
-    /// Hessian: limited-memory (default) or exact.
+    /// Hessian: limited-memory (default), exact, or hybrid (limited-memory until μ reaches
+    /// its floor, then exact).
     #[arg(long)]
     pub hessian: Option<String>,
     /// Convergence tolerance.
@@ -105,16 +106,29 @@ pub(crate) fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
     }
 }
 
-/// The Hessian mode named on the command line or in a study file. Default limited-memory
-/// (L-BFGS, 6 pairs), the paper's choice: with the exact Hessian the pure-Rust solver stalls
-/// from 20 mesh intervals on; with L-BFGS the data-informed guess converges at 50 (decision
-/// 0002).
-pub(crate) fn parse_hessian(name: Option<&str>) -> anyhow::Result<HessianMode> {
-    match name.map(str::trim) {
-        None | Some("limited-memory") => Ok(HessianMode::LimitedMemory { history: 6 }),
-        Some("exact") => Ok(HessianMode::Exact),
-        Some(other) => bail!("unknown hessian `{other}` (exact, limited-memory)"),
-    }
+/// Hessian of a prediction: the solver's mode, and whether the exact Hessian takes over
+/// once μ has reached its floor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct HessianChoice {
+    /// Mode the solve starts in.
+    pub mode: HessianMode,
+    /// Exact Hessian for the tail of a limited-memory solve.
+    pub exact_tail: bool,
+}
+
+/// The Hessian named on the command line or in a study file: `limited-memory` (L-BFGS, 6
+/// pairs, the paper's choice), `exact`, or `hybrid` (L-BFGS until μ reaches its floor, then
+/// exact). Default limited-memory: with the exact Hessian from the start the pure-Rust solver
+/// stalls from 20 mesh intervals on (decision 0002).
+pub(crate) fn parse_hessian(name: Option<&str>) -> anyhow::Result<HessianChoice> {
+    let lbfgs = HessianMode::LimitedMemory { history: 6 };
+    let (mode, exact_tail) = match name.map(str::trim) {
+        None | Some("limited-memory") => (lbfgs, false),
+        Some("hybrid") => (lbfgs, true),
+        Some("exact") => (HessianMode::Exact, false),
+        Some(other) => bail!("unknown hessian `{other}` (exact, limited-memory, hybrid)"),
+    };
+    Ok(HessianChoice { mode, exact_tail })
 }
 
 /// A wall-time limit [s] given on the command line or in a study file, checked positive.
@@ -129,13 +143,13 @@ pub(crate) fn check_time_limit(t: f64) -> anyhow::Result<Duration> {
 pub(crate) const PREDICTION_CONSTR_VIOL_TOL: f64 = 1e-6;
 
 /// Solver options of a prediction: tolerance (default 1e-4), iteration limit (default
-/// 3000), Hessian mode, wall-time limit per solve [s] (default none), adaptive μ, and a
+/// 3000), Hessian choice, wall-time limit per solve [s] (default none), adaptive μ, and a
 /// constraint violation of at most 1e-6 at the solution (IPOPT's default, 1e-4, let the
 /// 50-interval data-informed solve stop at 1.7e-6).
 pub(crate) fn prediction_options(
     tol: Option<f64>,
     max_iter: Option<usize>,
-    hessian: HessianMode,
+    hessian: HessianChoice,
     time_limit: Option<f64>,
 ) -> anyhow::Result<SolverOptions> {
     let tol = tol.unwrap_or(1e-4);
@@ -146,7 +160,8 @@ pub(crate) fn prediction_options(
     Ok(SolverOptions {
         tol,
         max_iter: max_iter.unwrap_or(3000),
-        hessian,
+        hessian: hessian.mode,
+        exact_hessian_tail: hessian.exact_tail,
         mu_strategy: MuStrategy::Adaptive,
         constr_viol_tol: PREDICTION_CONSTR_VIOL_TOL,
         time_limit,
@@ -264,4 +279,23 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hessian_names_map_to_modes_and_the_exact_tail() {
+        let lbfgs = HessianMode::LimitedMemory { history: 6 };
+        let c = |mode, exact_tail| HessianChoice { mode, exact_tail };
+        assert_eq!(parse_hessian(None).unwrap(), c(lbfgs, false));
+        assert_eq!(parse_hessian(Some("hybrid")).unwrap(), c(lbfgs, true));
+        assert_eq!(
+            parse_hessian(Some(" exact")).unwrap(),
+            c(HessianMode::Exact, false)
+        );
+        let e = parse_hessian(Some("bfgs")).unwrap_err().to_string();
+        assert!(e.contains("unknown hessian `bfgs`"), "{e}");
+    }
 }

@@ -5,7 +5,8 @@
 //! (adaptive with the kkt-error globalisation), `filter`, `scaled` (the other
 //! globalisations; default by Hessian mode), `STRIDE_MU_SAFEGUARD` (factor;
 //! default by Hessian mode), `STRIDE_KKT=ldlt|lblt`, `STRIDE_ORACLE=quality` (quality-function μ oracle),
-//! `STRIDE_WATCHDOG` (shortened steps that start the watchdog, 0: off).
+//! `STRIDE_WATCHDOG` (shortened steps that start the watchdog, 0: off), `STRIDE_HISTORY`
+//! (L-BFGS pairs, default 6), `STRIDE_EXACT_TAIL=1` (exact Hessian once μ is at its floor).
 
 use std::ops::ControlFlow;
 use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
@@ -34,7 +35,12 @@ fn main() {
             .and_then(|v| v.parse().ok())
             .unwrap_or(3000),
         hessian: if lbfgs {
-            HessianMode::LimitedMemory { history: 6 }
+            HessianMode::LimitedMemory {
+                history: std::env::var("STRIDE_HISTORY")
+                    .ok()
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(6),
+            }
         } else {
             HessianMode::Exact
         },
@@ -65,6 +71,7 @@ fn main() {
             .ok()
             .and_then(|v| v.parse().ok())
             .unwrap_or(10),
+        exact_hessian_tail: std::env::var("STRIDE_EXACT_TAIL").as_deref() == Ok("1"),
         ..Default::default()
     };
     let backend = args.get(4).cloned().unwrap_or_else(|| "ipm".into());

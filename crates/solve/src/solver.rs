@@ -131,6 +131,9 @@ pub struct SolverOptions {
     /// collocation problems, 2.4× faster factorisations of the 50-interval gait KKT than
     /// minimum degree, decision 0002; the IPOPT backend ignores it).
     pub kkt_ordering: KktOrdering,
+    /// Pure-Rust interior point with the limited-memory Hessian: switch to the exact
+    /// Hessian once μ has reached its floor (default false; the IPOPT backend ignores it).
+    pub exact_hessian_tail: bool,
     /// Apply gradient-based NLP scaling (IPOPT default).
     pub nlp_scaling: bool,
     /// Largest gradient entry after scaling (IPOPT `nlp_scaling_max_gradient`, 100).
@@ -181,6 +184,7 @@ impl Default for SolverOptions {
             soft_restoration: true,
             watchdog_trigger: 10,
             kkt_ordering: KktOrdering::Auto,
+            exact_hessian_tail: false,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
             bound_push: 1e-2,

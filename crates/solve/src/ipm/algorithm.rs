@@ -55,6 +55,9 @@ const FREE_MODE_REFS: usize = 4;
 const FREE_MODE_RED: f64 = 0.9999;
 /// Adaptive μ: fixed-mode μ as a fraction of the average complementarity.
 const FIXED_MU_FACTOR: f64 = 0.8;
+/// Iterations with μ at its floor before the exact Hessian takes over a limited-memory solve
+/// (`SolverOptions::exact_hessian_tail`).
+const EXACT_TAIL_AFTER: usize = 3;
 /// Iterative refinement: at most this many steps, down to this relative residual.
 const MAX_REFINE: usize = 10;
 const REFINE_TOL: f64 = 1e-10;
@@ -696,7 +699,7 @@ pub fn solve(
     let (n, m) = (nlp.n(), nlp.m());
     let bounds = validate_bounds(nlp)?;
     let structures = validate_structures(nlp)?;
-    let exact = matches!(options.hessian, HessianMode::Exact);
+    let mut exact = matches!(options.hessian, HessianMode::Exact);
     let mut prob = ScaledNlp::new(nlp, structures.jacobian, structures.hessian);
 
     // ---- initial point, scaling, slacks --------------------------------------------------
@@ -831,7 +834,7 @@ pub fn solve(
     } else {
         nlp.blocks()
     };
-    let pattern = match &chain {
+    let mut pattern = match &chain {
         Some(_) => KktPattern::new(n, m, &prob.jac, &Sparsity::default()),
         None => KktPattern::new(n, m, &prob.jac, &prob.hess),
     };
@@ -984,6 +987,9 @@ pub fn solve(
     let mut last_rec = IterationRecord::default();
     // the last accepted step was at round-off level (IPOPT's tiny-step flag)
     let mut tiny_step = false;
+    // iterations with μ at its floor, and where the exact Hessian took over (exact tail)
+    let mut floor_iters = 0usize;
+    let mut exact_from: Option<usize> = None;
 
     loop {
         // ---- optimality error --------------------------------------------------------------
@@ -1186,6 +1192,41 @@ pub fn solve(
                         break;
                     }
                     mu = monotone_decrease(mu, mu_floor);
+                }
+            }
+        }
+
+        // ---- exact Hessian for the tail of a limited-memory solve ----------------------------
+        // Once μ has sat at its floor for a few iterations only the quasi-Newton model is
+        // left to converge, which takes hundreds of iterations on the gait problem; from
+        // there the exact Hessian's Newton steps are used (the KKT matrix gets the Hessian
+        // pattern and a new symbolic analysis).
+        if options.exact_hessian_tail && !exact {
+            floor_iters = if mu <= mu_floor { floor_iters + 1 } else { 0 };
+            if floor_iters >= EXACT_TAIL_AFTER {
+                let t = Instant::now();
+                exact = true;
+                lbfgs = None;
+                pattern = KktPattern::new(n, m, &prob.jac, &prob.hess);
+                let ordering = kkt_ordering(nlp, &prob.hess, &pattern, options.kkt_ordering);
+                linear
+                    .analyse(
+                        pattern.dim,
+                        &pattern.col_ptr,
+                        &pattern.row_idx,
+                        ordering.as_deref(),
+                    )
+                    .map_err(|e| SolveError::Backend(e.to_string()))?;
+                kvals = vec![0.0; pattern.nnz()];
+                lin_time += t.elapsed();
+                let (w, lam) = (st.w[..n].to_vec(), st.lam.clone());
+                if let Err(e) = prob.hessian(&w, 1.0, &lam, &mut st.hv) {
+                    status = SolveStatus::Failed(format!("Hessian evaluation failed: {e}"));
+                    break;
+                }
+                exact_from = Some(iter);
+                if options.print_level >= 1 {
+                    eprintln!("stride-ipm: exact Hessian from iteration {iter}");
                 }
             }
         }
@@ -1921,13 +1962,14 @@ pub fn solve(
     };
     if options.print_level >= 1 {
         eprintln!(
-            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps, watchdog {} started / {} returned), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s of which {} factorisations {:.3} s)",
+            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps, watchdog {} started / {} returned{}), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s of which {} factorisations {:.3} s)",
             result.status,
             result.iterations,
             restorations,
             soft_steps,
             watchdog_starts,
             watchdog_returns,
+            exact_from.map_or(String::new(), |k| format!(", exact Hessian from iteration {k}")),
             result.objective,
             result.constraint_violation,
             result.time_total.as_secs_f64(),

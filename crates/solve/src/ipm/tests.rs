@@ -253,6 +253,40 @@ fn chain_dissection_and_minimum_degree_reach_the_same_collocation_optimum() {
 }
 
 #[test]
+fn exact_hessian_tail_reaches_the_exact_hessian_optimum_in_fewer_iterations() {
+    // L-BFGS until μ sits at its floor, then Newton steps with the exact Hessian.
+    let p = PendulumChain::new(3, 40);
+    let base = SolverOptions {
+        tol: 1e-8,
+        max_iter: 1000,
+        mu_strategy: MuStrategy::Adaptive,
+        ..SolverOptions::default()
+    };
+    let exact = run(&p, &base);
+    let lbfgs = SolverOptions {
+        hessian: HessianMode::LimitedMemory { history: 6 },
+        ..base.clone()
+    };
+    let plain = run(&p, &lbfgs);
+    let hybrid = run(
+        &p,
+        &SolverOptions {
+            exact_hessian_tail: true,
+            ..lbfgs
+        },
+    );
+    assert!(exact.status.is_success() && hybrid.status.is_success());
+    let rel = (hybrid.objective - exact.objective).abs() / exact.objective;
+    assert!(rel < 1e-6, "{} vs {}", hybrid.objective, exact.objective);
+    assert!(
+        hybrid.iterations < plain.iterations,
+        "hybrid {} vs limited-memory {} iterations",
+        hybrid.iterations,
+        plain.iterations
+    );
+}
+
+#[test]
 fn collocation_cost_converges_with_mesh_refinement() {
     // Radau IIA (order 5) cost must agree closely between N = 40 and N = 80.
     let a = run(&PendulumChain::new(2, 40), &SolverOptions::default());
