@@ -687,6 +687,26 @@ fn restore_feasibility(
     None
 }
 
+/// Symbolic analysis of the KKT `pattern` of `nlp` (Lagrangian Hessian pattern `hess`) by
+/// `linear`, with the elimination order `choice` gives.
+fn analyse_kkt(
+    linear: &mut dyn KktSolver,
+    nlp: &dyn Nlp,
+    hess: &Sparsity,
+    pattern: &KktPattern,
+    choice: KktOrdering,
+) -> Result<(), SolveError> {
+    let ordering = kkt_ordering(nlp, hess, pattern, choice);
+    linear
+        .analyse(
+            pattern.dim,
+            &pattern.col_ptr,
+            &pattern.row_idx,
+            ordering.as_deref(),
+        )
+        .map_err(|e| SolveError::Backend(e.to_string()))
+}
+
 /// Runs the interior-point method on `nlp` with the given KKT linear solver.
 pub fn solve(
     nlp: &dyn Nlp,
@@ -838,15 +858,7 @@ pub fn solve(
         Some(_) => KktPattern::new(n, m, &prob.jac, &Sparsity::default()),
         None => KktPattern::new(n, m, &prob.jac, &prob.hess),
     };
-    let ordering = kkt_ordering(nlp, &prob.hess, &pattern, options.kkt_ordering);
-    linear
-        .analyse(
-            pattern.dim,
-            &pattern.col_ptr,
-            &pattern.row_idx,
-            ordering.as_deref(),
-        )
-        .map_err(|e| SolveError::Backend(e.to_string()))?;
+    analyse_kkt(linear, nlp, &prob.hess, &pattern, options.kkt_ordering)?;
     let time_symbolic = t.elapsed();
     lin_time += time_symbolic;
 
@@ -1208,15 +1220,7 @@ pub fn solve(
                 exact = true;
                 lbfgs = None;
                 pattern = KktPattern::new(n, m, &prob.jac, &prob.hess);
-                let ordering = kkt_ordering(nlp, &prob.hess, &pattern, options.kkt_ordering);
-                linear
-                    .analyse(
-                        pattern.dim,
-                        &pattern.col_ptr,
-                        &pattern.row_idx,
-                        ordering.as_deref(),
-                    )
-                    .map_err(|e| SolveError::Backend(e.to_string()))?;
+                analyse_kkt(linear, nlp, &prob.hess, &pattern, options.kkt_ordering)?;
                 kvals = vec![0.0; pattern.nnz()];
                 lin_time += t.elapsed();
                 let (w, lam) = (st.w[..n].to_vec(), st.lam.clone());
