@@ -84,7 +84,7 @@ pub struct PredictArgs {
     /// Solver backend: ipm, ipopt (needs the `ipopt` feature) or all.
     #[arg(long, default_value = "ipm")]
     pub backend: String,
-    /// Hessian modes, comma separated: exact, limited-memory.
+    /// Hessian modes, comma separated: exact, limited-memory, hybrid.
     #[arg(long, value_delimiter = ',', default_value = "exact,limited-memory")]
     pub hessian: Vec<String>,
     /// Initial guesses, comma separated: data-informed-walking, quasi-random, data-informed-running.
