@@ -111,7 +111,7 @@ pub struct PredictOneArgs {
     /// Solver backend: ipm or ipopt.
     #[arg(long)]
     pub backend: String,
-    /// Hessian mode: exact or limited-memory.
+    /// Hessian mode: exact, limited-memory or hybrid.
     #[arg(long)]
     pub hessian: String,
     /// Initial guess.
