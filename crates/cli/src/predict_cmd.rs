@@ -252,7 +252,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         eprintln!();
     }
     let kept = predict::select(&solved);
-    let summary = predict::write_results(&problem, &solved, kept, solver.name(), &out)?;
+    let summary = predict::write_results(&problem, &solved, kept, solver.name(), &options, &out)?;
     for g in &summary.guesses {
         println!(
             "{:<22} {:<14} iterations {:>5}  objective {:>12.6}  violation {:.1e}  time {:.1} s (evaluations {:.1} s)",

@@ -670,7 +670,7 @@ mod tests {
             settings::ProblemSettings,
         };
         use std::time::Duration;
-        use stride_solve::solver::{SolveResult, SolveStatus};
+        use stride_solve::solver::{SolveResult, SolveStatus, SolverOptions};
         let model = stride_model::default_model::default_model();
         let settings = ProblemSettings {
             mesh_intervals: 10,
@@ -707,7 +707,15 @@ mod tests {
         }];
         let dir = std::env::temp_dir().join(format!("stride-figures-{}", std::process::id()));
         let out = dir.join("run");
-        predict::write_results(&problem, &solved, Some(0), "test", &out).unwrap();
+        predict::write_results(
+            &problem,
+            &solved,
+            Some(0),
+            "test",
+            &SolverOptions::default(),
+            &out,
+        )
+        .unwrap();
         for name in ["figure_kinematics", "figure_kinetics", "figure_activations"] {
             let svg = std::fs::read_to_string(out.join(format!("{name}.svg"))).unwrap();
             stride_plot::png::parse_svg(&svg).unwrap();

@@ -102,6 +102,8 @@ pub struct Summary {
     pub guesses: Vec<GuessReport>,
     /// Solver backend.
     pub solver: String,
+    /// Solver options of every guess's solve (Hessian mode, exact tail, tolerances).
+    pub solver_options: SolverOptions,
     /// Outcome measures of the kept solution.
     pub outcomes: Option<Outcomes>,
     /// The settings solved.
@@ -232,6 +234,7 @@ pub fn write_results(
     solved: &[Solved],
     kept: Option<usize>,
     solver_name: &str,
+    options: &SolverOptions,
     out: &Path,
 ) -> Result<Summary, PredictError> {
     let node = NodeModel::new(problem)?;
@@ -280,6 +283,7 @@ pub fn write_results(
             kept_guess: kept.map(|k| solved[k].report.guess),
             guesses: solved.iter().map(|s| s.report.clone()).collect(),
             solver: solver_name.into(),
+            solver_options: options.clone(),
             outcomes,
             settings: problem.settings.clone(),
             nlp_size: [problem.layout.len(), 0],

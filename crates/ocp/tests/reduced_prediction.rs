@@ -65,7 +65,7 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
     assert_eq!(kept, Some(0));
     let dir = std::env::temp_dir().join(format!("stride-reduced-{}", std::process::id()));
     let out = dir.join("run");
-    let summary = write_results(&problem, &solved, kept, "ipm", &out).expect("write");
+    let summary = write_results(&problem, &solved, kept, "ipm", &options, &out).expect("write");
     let o = summary.outcomes.expect("outcomes of the kept solution");
     eprintln!("outcomes: {o:?}");
     assert!((o.speed - 1.33).abs() < 1e-3, "speed {}", o.speed);

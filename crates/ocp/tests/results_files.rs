@@ -8,7 +8,7 @@ use stride_ocp::{
     data, experimental::Kinematics, guess::GuessKind, predict, problem::GaitProblem,
     settings::ProblemSettings,
 };
-use stride_solve::solver::{SolveResult, SolveStatus};
+use stride_solve::solver::{SolveResult, SolveStatus, SolverOptions};
 
 #[test]
 fn results_are_valid_storage_files() {
@@ -48,7 +48,15 @@ fn results_are_valid_storage_files() {
     }];
     let dir = std::env::temp_dir().join(format!("stride-results-{}", std::process::id()));
     let out = dir.join("run");
-    let summary = predict::write_results(&problem, &solved, Some(0), "test", &out).unwrap();
+    let summary = predict::write_results(
+        &problem,
+        &solved,
+        Some(0),
+        "test",
+        &SolverOptions::default(),
+        &out,
+    )
+    .unwrap();
     let motion = Storage::read(&out.join("motion.mot")).unwrap();
     assert_eq!(motion.in_degrees, Some(true));
     assert_eq!(motion.rows.len(), 20, "full cycle = 2N samples");
@@ -71,6 +79,12 @@ fn results_are_valid_storage_files() {
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
+    // The solver options are recorded with the results.
+    let json = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        json.contains("\"solver_options\"") && json.contains("\"exact_hessian_tail\""),
+        "summary.json without the solver options"
+    );
     // No temporary folder left behind.
     let leftovers: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()

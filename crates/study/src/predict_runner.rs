@@ -176,8 +176,15 @@ impl CaseRunner for PredictRunner {
             }
         };
         let kept = predict::select(&solved);
-        let summary = predict::write_results(&problem, &solved, kept, self.solver.name(), dir)
-            .map_err(err)?;
+        let summary = predict::write_results(
+            &problem,
+            &solved,
+            kept,
+            self.solver.name(),
+            &self.options,
+            dir,
+        )
+        .map_err(err)?;
         let s = &solved[0];
         let mut outcome = CaseOutcome {
             converged: s.report.converged,
