@@ -158,7 +158,7 @@ fn print_series(report: &analysis::Report) {
             ),
         ] {
             if let Some(f) = f {
-                println!("  {what}: R² = {:.3} over {} speeds", f.r_squared, f.n);
+                println!("  {what}: {} over {} speeds", f.quality(3), f.n);
             }
         }
     }

@@ -97,6 +97,22 @@ impl Fit {
             .rev()
             .fold(0.0, |acc, c| acc * x + c)
     }
+
+    /// Whether the polynomial passes through every point (as many points as coefficients),
+    /// so that its R² says nothing.
+    pub fn is_exact(&self) -> bool {
+        self.n <= self.coefficients.len()
+    }
+
+    /// The fit's quality for reports: "R² = 0.98" (with `decimals` decimals), or "exact
+    /// through 3 points" when the polynomial has no residual degrees of freedom.
+    pub fn quality(&self, decimals: usize) -> String {
+        if self.is_exact() {
+            format!("exact through {} points", self.n)
+        } else {
+            format!("R² = {:.*}", decimals, self.r_squared)
+        }
+    }
 }
 
 /// Least-squares polynomial of `degree` through (x, y); `None` with fewer than degree + 1
@@ -487,6 +503,9 @@ mod tests {
         );
         assert!((f1.r_squared - 1.0).abs() < 1e-12);
         assert!(polyfit(&x[..2], &y[..2], 2).is_none());
+        let exact = polyfit(&x[..3], &y[..3], 2).unwrap();
+        assert!(exact.is_exact() && exact.quality(2).starts_with("exact through 3"));
+        assert!(!f.is_exact() && f.quality(3).starts_with("R² = "));
     }
 
     #[test]

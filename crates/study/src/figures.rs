@@ -44,13 +44,13 @@ pub fn speed_series_figure(s: &SpeedSeries, title: &str) -> Option<Figure> {
         let (x, y) = fit_curve(f, lo, t);
         Series::new(x, y, Color::BLUE)
             .dash(vec![6.0, 4.0])
-            .label(format!("walking fit, R² = {:.2}", f.r_squared))
+            .label(format!("walking fit, {}", f.quality(2)))
     });
     let run_fit = s.cot_running_fit.as_ref().map(|f| {
         let (x, y) = fit_curve(f, t, hi);
         Series::new(x, y, Color::RED)
             .dash(vec![6.0, 4.0])
-            .label(format!("running fit, R² = {:.2}", f.r_squared))
+            .label(format!("running fit, {}", f.quality(2)))
     });
     for l in walk_fit.iter().chain(&run_fit) {
         cot = cot.line(l.clone());
@@ -59,11 +59,11 @@ pub fn speed_series_figure(s: &SpeedSeries, title: &str) -> Option<Figure> {
         .title(title.to_string())
         .legend_entry(LegendEntry::for_series(&data, "prediction"));
     if let (Some(l), Some(f)) = (&walk_fit, &s.cot_walking_fit) {
-        let label = format!("walking fit (quadratic), R² = {:.2}", f.r_squared);
+        let label = format!("walking fit (quadratic), {}", f.quality(2));
         fig = fig.legend_entry(LegendEntry::for_series(l, &label));
     }
     if let (Some(l), Some(f)) = (&run_fit, &s.cot_running_fit) {
-        let label = format!("running fit (linear), R² = {:.2}", f.r_squared);
+        let label = format!("running fit (linear), {}", f.quality(2));
         fig = fig.legend_entry(LegendEntry::for_series(l, &label));
     }
     let mut sf = Panel::new("Stride frequency", "speed [m/s]", "stride frequency [1/s]");
