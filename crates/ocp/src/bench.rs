@@ -274,7 +274,7 @@ pub struct KktBench {
 pub fn kkt(model: &Model, settings: &ProblemSettings, reps: usize) -> Result<KktBench, BenchError> {
     use stride_solve::ipm::kkt::KktPattern;
     use stride_solve::ipm::linsys::{FaerLdlt, KktSolver};
-    use stride_solve::ipm::ordering::kkt_ordering;
+    use stride_solve::ipm::ordering::{kkt_ordering, ordering_blocks};
     use stride_solve::nlp::Sparsity;
     use stride_solve::solver::KktOrdering;
     if reps == 0 {
@@ -309,7 +309,8 @@ pub fn kkt(model: &Model, settings: &ProblemSettings, reps: usize) -> Result<Kkt
         pattern.assemble(&mut vals, &zero_h, &jv, &vec![1.0; n], &vec![1e-8; m]);
         let mut solver = FaerLdlt::new();
         let t = Instant::now();
-        let order = kkt_ordering(&nlp, &hess, &pattern, choice);
+        let blocks = ordering_blocks(&nlp, choice);
+        let order = kkt_ordering(blocks.as_ref(), &hess, &pattern);
         solver
             .analyse(
                 pattern.dim,

@@ -13,7 +13,7 @@ use thiserror::Error;
 
 use crate::ipm::kkt::KktPattern;
 use crate::ipm::linsys::{FaerLdlt, KktSolver, LinearSolverError};
-use crate::ipm::ordering::kkt_ordering;
+use crate::ipm::ordering::{kkt_ordering, ordering_blocks};
 use crate::nlp::{EvalError, Nlp};
 use crate::problems::PendulumChain;
 use crate::solver::{
@@ -104,7 +104,8 @@ pub fn factorisation(intervals: usize) -> Result<Factorisation, BenchError> {
     pattern.assemble(&mut vals, &hv, &jv, &diag, &dc);
     let mut s = FaerLdlt::new();
     let t = Instant::now();
-    let ordering = kkt_ordering(&p, &hess, &pattern, KktOrdering::Auto);
+    let blocks = ordering_blocks(&p, KktOrdering::Auto);
+    let ordering = kkt_ordering(blocks.as_ref(), &hess, &pattern);
     s.analyse(
         pattern.dim,
         &pattern.col_ptr,

@@ -16,12 +16,12 @@ use crate::ipm::kkt::KktPattern;
 use crate::ipm::lbfgs::{dot, Lbfgs, LowRankCorrection};
 use crate::ipm::linsys::{Inertia, KktSolver};
 use crate::ipm::mu_oracle::choose_sigma;
-use crate::ipm::ordering::kkt_ordering;
+use crate::ipm::ordering::{kkt_ordering, ordering_blocks};
 use crate::ipm::scaled::ScaledNlp;
-use crate::nlp::{validate_bounds, validate_structures, EvalError, Nlp, Sparsity};
+use crate::nlp::{validate_bounds, validate_structures, BlockStructure, EvalError, Nlp, Sparsity};
 use crate::solver::{
-    HessianMode, IterationRecord, KktOrdering, MuGlobalisation, MuOracle, MuStrategy, SolveError,
-    SolveResult, SolveStatus, SolverOptions,
+    HessianMode, IterationRecord, MuGlobalisation, MuOracle, MuStrategy, SolveError, SolveResult,
+    SolveStatus, SolverOptions,
 };
 
 const NO_SLACK: usize = usize::MAX;
@@ -687,16 +687,15 @@ fn restore_feasibility(
     None
 }
 
-/// Symbolic analysis of the KKT `pattern` of `nlp` (Lagrangian Hessian pattern `hess`) by
-/// `linear`, with the elimination order `choice` gives.
+/// Symbolic analysis of the KKT `pattern` (Lagrangian Hessian pattern `hess`) by `linear`,
+/// ordered by chain dissection along `blocks` when given.
 fn analyse_kkt(
     linear: &mut dyn KktSolver,
-    nlp: &dyn Nlp,
+    blocks: Option<&BlockStructure>,
     hess: &Sparsity,
     pattern: &KktPattern,
-    choice: KktOrdering,
 ) -> Result<(), SolveError> {
-    let ordering = kkt_ordering(nlp, hess, pattern, choice);
+    let ordering = kkt_ordering(blocks, hess, pattern);
     linear
         .analyse(
             pattern.dim,
@@ -849,16 +848,13 @@ pub fn solve(
     // intervals); the chain dissection does best without them (14.7 million; decision 0002).
     let mut lin_time = Duration::ZERO;
     let t = Instant::now();
-    let chain = if exact || options.kkt_ordering == KktOrdering::MinimumDegree {
-        None
+    let blocks = ordering_blocks(nlp, options.kkt_ordering);
+    let mut pattern = if !exact && blocks.is_some() {
+        KktPattern::new(n, m, &prob.jac, &Sparsity::default())
     } else {
-        nlp.blocks()
+        KktPattern::new(n, m, &prob.jac, &prob.hess)
     };
-    let mut pattern = match &chain {
-        Some(_) => KktPattern::new(n, m, &prob.jac, &Sparsity::default()),
-        None => KktPattern::new(n, m, &prob.jac, &prob.hess),
-    };
-    analyse_kkt(linear, nlp, &prob.hess, &pattern, options.kkt_ordering)?;
+    analyse_kkt(linear, blocks.as_ref(), &prob.hess, &pattern)?;
     let time_symbolic = t.elapsed();
     lin_time += time_symbolic;
 
@@ -1220,7 +1216,7 @@ pub fn solve(
                 exact = true;
                 lbfgs = None;
                 pattern = KktPattern::new(n, m, &prob.jac, &prob.hess);
-                analyse_kkt(linear, nlp, &prob.hess, &pattern, options.kkt_ordering)?;
+                analyse_kkt(linear, blocks.as_ref(), &prob.hess, &pattern)?;
                 kvals = vec![0.0; pattern.nnz()];
                 lin_time += t.elapsed();
                 let (w, lam) = (st.w[..n].to_vec(), st.lam.clone());

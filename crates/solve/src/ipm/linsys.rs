@@ -297,7 +297,7 @@ impl KktSolver for FaerLdlt {
             );
         }
         // One pass over the factor for all columns (blocked triangular solves) instead of one
-        // pass per column; the factor of the 50-interval gait KKT is 24.5 M entries.
+        // pass per column; the factor of the 50-interval gait KKT is 14.7 M entries.
         let l = LdltRef::new(sym, &self.l_values);
         let mat = MatMut::from_column_major_slice_mut(rhs, self.dim, ncols);
         let stack = MemStack::new(&mut self.solve_buffer.0);

@@ -275,20 +275,15 @@ pub fn chain_dissection(
     d.order
 }
 
-/// The elimination order of `pattern` (the KKT matrix of `nlp`, whose Lagrangian Hessian
-/// pattern is `hessian`) under `choice`: chain dissection when the problem declares its
-/// blocks, None (the linear solver's minimum degree) otherwise.
+/// The elimination order of `pattern` (a KKT matrix whose Lagrangian Hessian pattern is
+/// `hessian`): chain dissection along `blocks` when given, None (the linear solver's
+/// minimum degree) otherwise.
 pub fn kkt_ordering(
-    nlp: &dyn Nlp,
+    blocks: Option<&BlockStructure>,
     hessian: &Sparsity,
     pattern: &KktPattern,
-    choice: KktOrdering,
 ) -> Option<Vec<usize>> {
-    if choice == KktOrdering::MinimumDegree {
-        return None;
-    }
-    let blocks = nlp.blocks()?;
-    let var_block = variable_blocks(pattern.n, &blocks, hessian);
+    let var_block = variable_blocks(pattern.n, blocks?, hessian);
     Some(chain_dissection(
         pattern.dim,
         &pattern.col_ptr,
@@ -296,6 +291,15 @@ pub fn kkt_ordering(
         &var_block,
         LEAF_BLOCKS,
     ))
+}
+
+/// The chain of blocks the KKT ordering `choice` uses for `nlp`: its declared blocks under
+/// `Auto`, none under `MinimumDegree`.
+pub fn ordering_blocks(nlp: &dyn Nlp, choice: KktOrdering) -> Option<BlockStructure> {
+    match choice {
+        KktOrdering::Auto => nlp.blocks(),
+        KktOrdering::MinimumDegree => None,
+    }
 }
 
 #[cfg(test)]
