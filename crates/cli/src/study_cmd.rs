@@ -139,6 +139,13 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
 }
 
 fn print_series(report: &analysis::Report) {
+    // Studies without a speed axis: one line per condition against the reference.
+    if let (true, Some(t)) = (report.speed_series.is_empty(), &report.conditions) {
+        println!("conditions (change from the reference in parentheses):");
+        for line in stride_study::conditions::conditions_text(t) {
+            println!("  {line}");
+        }
+    }
     for s in &report.speed_series {
         let key: Vec<String> = s.key.iter().map(|(k, v)| format!("{k}={v}")).collect();
         println!(

@@ -4,6 +4,7 @@
 //! - [`gait`]: the gait view of a model (coordinate roles, mirror maps).
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
+//! - [`measures`]: trunk sway and stance measures compared between conditions.
 //! - [`bench`]: timing of the NLP derivatives (`stride bench derivatives`).
 
 pub mod bench;
@@ -14,6 +15,7 @@ pub mod figures;
 pub mod gait;
 pub mod guess;
 pub mod layout;
+pub mod measures;
 pub mod node;
 pub mod predict;
 pub mod problem;

@@ -370,6 +370,9 @@ pub struct Outcomes {
     /// Number of peaks of the right vertical ground reaction force over the cycle: local
     /// maxima above half body weight with a prominence of at least 5% body weight.
     pub vertical_grf_peaks_right: usize,
+    /// Trunk sway and per-leg stance measures compared between conditions.
+    #[serde(flatten)]
+    pub conditions: crate::measures::ConditionMeasures,
 }
 
 impl GaitProblem {
@@ -475,6 +478,7 @@ impl GaitProblem {
             double_support_fraction: frac(&both),
             stance_phases_right: phases,
             vertical_grf_peaks_right: peaks,
+            conditions: self.condition_measures(cycle)?,
         })
     }
 }

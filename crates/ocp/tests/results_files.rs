@@ -70,6 +70,19 @@ fn results_are_valid_storage_files() {
     // of vertical force on average over a cycle.
     let o = summary.outcomes.unwrap();
     assert!(o.stride_length > 0.8 && o.stride_length < 2.0, "{o:?}");
+    // Condition measures of the experimental kinematics: trunk sway near the subject's
+    // 3.0° (range of the mean series of walking_trunk_sway.csv). The guess is not
+    // dynamically consistent (the feet sink into the ground for most of the cycle), so only
+    // the presence of the stance measures is checked here.
+    let m = &o.conditions;
+    let sway = m.trunk_sway.unwrap();
+    assert!(sway > 2.0 && sway < 5.0, "trunk sway {sway}");
+    for leg in [&m.right, &m.left] {
+        assert!(
+            leg.peak_knee_flexion.is_some()
+                && leg.early_stance_ankle_plantarflexion_torque.is_some()
+        );
+    }
     for f in [
         "summary.json",
         "joint_angles.csv",

@@ -252,6 +252,8 @@ pub struct Report {
     pub selected: Vec<Selected>,
     /// Speed series (studies with a speed axis).
     pub speed_series: Vec<SpeedSeries>,
+    /// Conditions against the reference case (filled by [`report_folder`]).
+    pub conditions: Option<crate::conditions::ConditionTable>,
 }
 
 /// Build the report from cases and their records.
@@ -331,6 +333,7 @@ pub fn build_report(name: &str, cases: &[Case], records: &[Option<CaseRecord>]) 
         not_run: records.iter().filter(|r| r.is_none()).count(),
         selected,
         speed_series,
+        conditions: None,
     }
 }
 
@@ -379,7 +382,12 @@ pub fn report_folder(folder: &Path) -> Result<Report, ReportError> {
     };
     let records: Vec<Option<CaseRecord>> =
         study.cases.iter().map(|c| store.record(&c.name)).collect();
-    let report = build_report(&study.header.name, &study.cases, &records);
+    let mut report = build_report(&study.header.name, &study.cases, &records);
+    let table = crate::conditions::condition_table(&study, &report.selected, folder);
+    // Written when at least one kept case has the measures in its summary.
+    if table.rows.iter().any(|r| r.measures.is_some()) {
+        report.conditions = Some(table);
+    }
     write_report(folder, &report)?;
     Ok(report)
 }
@@ -442,7 +450,11 @@ pub fn write_report(folder: &Path, report: &Report) -> Result<(), StoreError> {
         let p = folder.join(format!("speed_series_{i}.csv"));
         write_atomic(&p, s.as_bytes()).map_err(|e| io_err(&p, e))?;
     }
-    crate::figures::write_speed_figures(folder, &report.speed_series)
+    crate::figures::write_speed_figures(folder, &report.speed_series)?;
+    if let Some(t) = &report.conditions {
+        crate::conditions::write_conditions(folder, t, &report.study)?;
+    }
+    Ok(())
 }
 
 /// Why a report could not be made.

@@ -101,13 +101,17 @@ pub fn write_speed_figures(folder: &Path, series: &[SpeedSeries]) -> Result<(), 
         let Some(fig) = speed_series_figure(s, &title) else {
             continue;
         };
-        let base = folder.join(format!("figure_speed_series_{i}"));
-        let svg = fig.to_svg().map_err(|e| io_err(&base, e))?;
-        let png = stride_plot::png::svg_to_png(&svg, PNG_SCALE).map_err(|e| io_err(&base, e))?;
-        let p = base.with_extension("svg");
-        write_atomic(&p, svg.as_bytes()).map_err(|e| io_err(&p, e))?;
-        let p = base.with_extension("png");
-        write_atomic(&p, &png).map_err(|e| io_err(&p, e))?;
+        write_figure(&folder.join(format!("figure_speed_series_{i}")), &fig)?;
     }
     Ok(())
+}
+
+/// Write a figure as `<base>.svg` and `<base>.png`.
+pub fn write_figure(base: &Path, fig: &Figure) -> Result<(), StoreError> {
+    let svg = fig.to_svg().map_err(|e| io_err(base, e))?;
+    let png = stride_plot::png::svg_to_png(&svg, PNG_SCALE).map_err(|e| io_err(base, e))?;
+    let p = base.with_extension("svg");
+    write_atomic(&p, svg.as_bytes()).map_err(|e| io_err(&p, e))?;
+    let p = base.with_extension("png");
+    write_atomic(&p, &png).map_err(|e| io_err(&p, e))
 }

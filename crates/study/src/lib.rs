@@ -5,9 +5,11 @@
 //! - [`runner`]: parallel, resumable execution through a [`runner::CaseRunner`].
 //! - [`predict_runner`]: the real runner (`stride_ocp::predict`, continuation guesses).
 //! - [`analysis`]: walk/run classification, transition speed, fits, `report.json`.
+//! - [`conditions`]: conditions against the reference case (`conditions.csv`, figure).
 //! - [`figures`]: COT and stride frequency versus speed (SVG, PNG).
 
 pub mod analysis;
+pub mod conditions;
 pub mod figures;
 pub mod predict_runner;
 pub mod runner;

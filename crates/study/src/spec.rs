@@ -184,6 +184,8 @@ pub struct Case {
 pub struct Study {
     /// The `[study]` table.
     pub header: StudyHeader,
+    /// Settings of `[base]` alone (a case with exactly these is the study's reference).
+    pub base: ProblemSettings,
     /// Every case, dependencies before dependants.
     pub cases: Vec<Case>,
     /// The study file's text (hashed to guard resumption).
@@ -526,6 +528,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Study, SpecError> {
     }
     Ok(Study {
         header: raw.study,
+        base: base_settings,
         cases,
         source_text: text.to_string(),
         path: path.to_path_buf(),

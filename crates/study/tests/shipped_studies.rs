@@ -11,14 +11,15 @@ fn studies_dir() -> PathBuf {
 #[test]
 fn shipped_study_files_expand_to_table_s3_counts() {
     // (file, cases): Table S3 counts; the speed sweeps also hold the cases Table S3 counts
-    // elsewhere or lists as failed (see the comments in the files).
+    // elsewhere or lists as failed (see the comments in the files); the weakness and
+    // co-contraction families add their nominal reference (2 guesses).
     let expected = [
         ("nominal.toml", 2),
         ("cost_functions.toml", 5 * 2),
-        ("weak_hip.toml", 6),
-        ("weak_plantarflexors.toml", 6),
+        ("weak_hip.toml", 6 + 2),
+        ("weak_plantarflexors.toml", 6 + 2),
         ("metabolic_models.toml", 10),
-        ("co_contraction.toml", 6),
+        ("co_contraction.toml", 6 + 2),
         ("speeds.toml", 99 + 2 + 2),
         ("speeds_vmax2.toml", 52 + 1),
         ("mesh100.toml", 2),
@@ -55,10 +56,32 @@ fn shipped_families_set_the_published_values() {
     let scales: Vec<f64> = s
         .cases
         .iter()
-        .map(|c| c.settings.strength[0].scale)
+        .map(|c| c.settings.strength.first().map_or(1.0, |s| s.scale))
         .collect();
     for v in [0.5, 0.25, 0.1] {
         assert!(scales.contains(&v));
+    }
+    // Each weakness and co-contraction family has exactly one reference group: the
+    // settings of its [base], i.e. the nominal case.
+    for f in [
+        "weak_hip.toml",
+        "weak_plantarflexors.toml",
+        "co_contraction.toml",
+    ] {
+        let s = load(f);
+        let reference: Vec<&str> = s
+            .cases
+            .iter()
+            .filter(|c| c.settings == s.base)
+            .map(|c| c.group.as_str())
+            .collect();
+        assert_eq!(reference.len(), 2, "{f}: {reference:?}");
+        assert_eq!(reference[0], reference[1], "{f}");
+        assert_eq!(
+            s.base,
+            stride_ocp::settings::ProblemSettings::default(),
+            "{f}"
+        );
     }
     let s = load("speeds_vmax2.toml");
     assert!(s

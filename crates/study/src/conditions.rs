@@ -1,0 +1,440 @@
+//! Comparison of the conditions of a study (weakness, co-contraction, prosthesis, cost
+//! functions, …) with its reference case (FORMULATION 13.2): per selected case the cost of
+//! transport, step width, stride length, trunk sway and the stance measures of both legs
+//! (`stride_ocp::measures`), read from the case's `summary.json`; the reference is the case
+//! whose settings are exactly the study's `[base]` (e.g. a `nominal` condition).
+//! Written as `conditions.csv` and a figure of angles and torques over the gait cycle.
+
+use crate::analysis::Selected;
+use crate::spec::Study;
+use crate::store::{io_err, StoreError};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::Path;
+use stride_model::storage::write_atomic;
+use stride_ocp::measures::{ConditionMeasures, LegMeasures};
+use stride_plot::{Color, Figure, LegendEntry, Panel, Series};
+
+/// One selected case of the comparison.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConditionRow {
+    /// Group (case name without the guess).
+    pub group: String,
+    /// Kept case (folder name under `cases/`).
+    pub case: String,
+    /// Whether this is the reference (settings equal to `[base]`).
+    pub reference: bool,
+    /// Cost of transport [J kg⁻¹ m⁻¹].
+    pub cost_of_transport: Option<f64>,
+    /// Stride length [m].
+    pub stride_length: Option<f64>,
+    /// Step width [m] (`None` for cases written before it was recorded).
+    pub step_width: Option<f64>,
+    /// Trunk sway and stance measures (`None` when the summary predates them).
+    pub measures: Option<ConditionMeasures>,
+}
+
+/// The comparison of a study's conditions.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConditionTable {
+    /// Group of the reference case, if the study has one.
+    pub reference: Option<String>,
+    /// Selected cases in study order.
+    pub rows: Vec<ConditionRow>,
+}
+
+/// Step width and condition measures of a case folder's `summary.json` (`None` when the file
+/// is missing, unreadable, or written before the measures existed).
+fn read_summary(dir: &Path) -> (Option<f64>, Option<ConditionMeasures>) {
+    let outcomes = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| v.get("outcomes").cloned());
+    let Some(o) = outcomes else {
+        return (None, None);
+    };
+    let step_width = o.get("step_width").and_then(|v| v.as_f64());
+    // A summary with the measures carries `trunk_sway` (null for a model without torso).
+    let measures = o
+        .get("trunk_sway")
+        .and_then(|_| serde_json::from_value::<ConditionMeasures>(o.clone()).ok());
+    (step_width, measures)
+}
+
+/// Build the comparison from the selected cases of a study whose output folder is `folder`.
+pub fn condition_table(study: &Study, selected: &[Selected], folder: &Path) -> ConditionTable {
+    let is_reference = |s: &Selected| {
+        study
+            .cases
+            .iter()
+            .find(|c| c.name == s.case)
+            .is_some_and(|c| c.settings == study.base)
+    };
+    let rows: Vec<ConditionRow> = selected
+        .iter()
+        .map(|s| {
+            let (step_width, measures) = read_summary(&folder.join("cases").join(&s.case));
+            ConditionRow {
+                group: s.group.clone(),
+                case: s.case.clone(),
+                reference: is_reference(s),
+                cost_of_transport: s.cost_of_transport,
+                stride_length: s.stride_length,
+                step_width,
+                measures,
+            }
+        })
+        .collect();
+    ConditionTable {
+        reference: rows.iter().find(|r| r.reference).map(|r| r.group.clone()),
+        rows,
+    }
+}
+
+/// Names and accessors of the per-leg columns.
+type LegField = (&'static str, fn(&LegMeasures) -> Option<f64>);
+const LEG_FIELDS: [LegField; 6] = [
+    ("stance_fraction", |m| m.stance_fraction),
+    ("peak_knee_flexion_deg", |m| m.peak_knee_flexion),
+    ("peak_ankle_dorsiflexion_deg", |m| m.peak_ankle_dorsiflexion),
+    ("peak_hip_abduction_torque_nm_per_kg", |m| {
+        m.peak_hip_abduction_torque
+    }),
+    ("peak_ankle_plantarflexion_torque_nm_per_kg", |m| {
+        m.peak_ankle_plantarflexion_torque
+    }),
+    ("early_stance_ankle_plantarflexion_torque_nm_per_kg", |m| {
+        m.early_stance_ankle_plantarflexion_torque
+    }),
+];
+
+fn o(v: Option<f64>) -> String {
+    v.map(|x| x.to_string()).unwrap_or_default()
+}
+
+/// `conditions.csv`: one row per selected case.
+pub fn conditions_csv(t: &ConditionTable) -> String {
+    let mut s = String::from(
+        "group,case,reference,cost_of_transport,stride_length_m,step_width_m,trunk_sway_deg",
+    );
+    for side in ["right", "left"] {
+        for (name, _) in LEG_FIELDS {
+            let _ = write!(s, ",{side}_{name}");
+        }
+    }
+    s.push('\n');
+    for r in &t.rows {
+        let _ = write!(
+            s,
+            "{},{},{},{},{},{},{}",
+            r.group,
+            r.case,
+            r.reference,
+            o(r.cost_of_transport),
+            o(r.stride_length),
+            o(r.step_width),
+            o(r.measures.as_ref().and_then(|m| m.trunk_sway)),
+        );
+        for right in [true, false] {
+            let l = r
+                .measures
+                .as_ref()
+                .map(|m| {
+                    if right {
+                        m.right.clone()
+                    } else {
+                        m.left.clone()
+                    }
+                })
+                .unwrap_or_default();
+            for (_, f) in LEG_FIELDS {
+                let _ = write!(s, ",{}", o(f(&l)));
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// One-line text per row: the main measures and their change from the reference.
+pub fn conditions_text(t: &ConditionTable) -> Vec<String> {
+    let reference = t.rows.iter().find(|r| r.reference);
+    let fmt = |v: Option<f64>, r: Option<f64>, digits: usize, unit: &str| match (v, r) {
+        (Some(v), Some(r)) => format!("{v:.digits$}{unit} ({:+.digits$})", v - r),
+        (Some(v), None) => format!("{v:.digits$}{unit}"),
+        _ => "–".into(),
+    };
+    let m = |r: Option<&ConditionRow>, f: &dyn Fn(&ConditionMeasures) -> Option<f64>| {
+        r.and_then(|r| r.measures.as_ref()).and_then(f)
+    };
+    t.rows
+        .iter()
+        .map(|r| {
+            let g = |f: &dyn Fn(&ConditionMeasures) -> Option<f64>| (m(Some(r), f), m(reference, f));
+            let (sway, sway0) = g(&|x| x.trunk_sway);
+            let (knee, knee0) = g(&|x| x.right.peak_knee_flexion);
+            let (df, df0) = g(&|x| x.right.peak_ankle_dorsiflexion);
+            let (hip, hip0) = g(&|x| x.right.peak_hip_abduction_torque);
+            let (pf_r, _) = g(&|x| x.right.early_stance_ankle_plantarflexion_torque);
+            let (pf_l, _) = g(&|x| x.left.early_stance_ankle_plantarflexion_torque);
+            format!(
+                "{}{}: COT {}, step width {}, trunk sway {}; stance peaks (right): knee flexion {}, ankle dorsiflexion {}, hip abduction torque {}; early-stance plantarflexion torque right {}, left {}",
+                r.group,
+                if r.reference { " (reference)" } else { "" },
+                fmt(r.cost_of_transport, reference.and_then(|x| x.cost_of_transport), 2, " J/kg/m"),
+                fmt(r.step_width, reference.and_then(|x| x.step_width), 3, " m"),
+                fmt(sway, sway0, 1, "°"),
+                fmt(knee, knee0, 1, "°"),
+                fmt(df, df0, 1, "°"),
+                fmt(hip, hip0, 2, " N m/kg"),
+                fmt(pf_r, None, 2, " N m/kg"),
+                fmt(pf_l, None, 2, " N m/kg"),
+            )
+        })
+        .collect()
+}
+
+/// A column of a case's CSV table over the gait cycle: (% cycle, values).
+fn cycle_column(path: &Path, column: &str) -> Option<(Vec<f64>, Vec<f64>)> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next()?.split(',').collect();
+    let c = header.iter().position(|h| *h == column)?;
+    let (mut t, mut y) = (Vec::new(), Vec::new());
+    for l in lines.filter(|l| !l.trim().is_empty()) {
+        let f: Vec<&str> = l.split(',').collect();
+        t.push(f.first()?.parse::<f64>().ok()?);
+        y.push(f.get(c)?.parse::<f64>().ok()?);
+    }
+    let (t0, t1) = (*t.first()?, *t.last()?);
+    if t1 <= t0 {
+        return None;
+    }
+    // The table holds the open cycle (last sample one step before the end): scale time so
+    // that the sample spacing maps to 100 % over the whole cycle.
+    let dt = (t1 - t0) / (t.len() - 1) as f64;
+    let span = t1 - t0 + dt;
+    Some((t.iter().map(|x| 100.0 * (x - t0) / span).collect(), y))
+}
+
+/// Panels of the condition figure: (title, table file, column, unit).
+const FIGURE_PANELS: [(&str, &str, &str, &str); 8] = [
+    (
+        "Hip adduction (right)",
+        "joint_angles.csv",
+        "hip_adduction_r",
+        "angle [deg]",
+    ),
+    (
+        "Knee angle (right)",
+        "joint_angles.csv",
+        "knee_angle_r",
+        "angle [deg]",
+    ),
+    (
+        "Ankle angle (right)",
+        "joint_angles.csv",
+        "ankle_angle_r",
+        "angle [deg]",
+    ),
+    (
+        "Lumbar bending",
+        "joint_angles.csv",
+        "lumbar_bending",
+        "angle [deg]",
+    ),
+    (
+        "Hip adduction torque (right)",
+        "joint_torques.csv",
+        "hip_adduction_r",
+        "torque [N m]",
+    ),
+    (
+        "Knee torque (right)",
+        "joint_torques.csv",
+        "knee_angle_r",
+        "torque [N m]",
+    ),
+    (
+        "Ankle torque (right)",
+        "joint_torques.csv",
+        "ankle_angle_r",
+        "torque [N m]",
+    ),
+    (
+        "Ankle torque (left)",
+        "joint_torques.csv",
+        "ankle_angle_l",
+        "torque [N m]",
+    ),
+];
+
+/// Line colours of the compared cases (the reference is drawn black and wider).
+const PALETTE: [Color; 6] = [
+    Color::BLUE,
+    Color::RED,
+    Color::GREEN,
+    Color::ORANGE,
+    Color::rgb(120, 60, 160),
+    Color::GREY,
+];
+
+/// Figure of angles and torques over the gait cycle, one line per selected case (`None`
+/// when fewer than two cases have tables).
+pub fn conditions_figure(t: &ConditionTable, folder: &Path, title: &str) -> Option<Figure> {
+    let mut fig = Figure::new(1600, 800, 2, 4).title(title.to_string());
+    let mut panels: Vec<Panel> = FIGURE_PANELS
+        .iter()
+        .map(|(name, _, _, unit)| Panel::new(*name, "gait cycle [%]", *unit))
+        .collect();
+    let mut drawn = 0;
+    let mut colour = 0;
+    for r in &t.rows {
+        let dir = folder.join("cases").join(&r.case);
+        let (c, w) = if r.reference {
+            (Color::BLACK, 2.5)
+        } else {
+            colour += 1;
+            (PALETTE[(colour - 1) % PALETTE.len()], 1.5)
+        };
+        let mut any = false;
+        for (panel, (_, file, column, _)) in panels.iter_mut().zip(FIGURE_PANELS) {
+            if let Some((x, y)) = cycle_column(&dir.join(file), column) {
+                let s = Series::new(x, y, c).width(w);
+                if !any {
+                    fig = fig.legend_entry(LegendEntry::for_series(&s, &r.group));
+                }
+                *panel = panel.clone().line(s);
+                any = true;
+            }
+        }
+        drawn += usize::from(any);
+    }
+    if drawn < 2 {
+        return None;
+    }
+    Some(panels.into_iter().fold(fig, |f, p| f.panel(p)))
+}
+
+/// Write `conditions.csv` and `figure_conditions.svg`/`.png` into a study folder.
+pub fn write_conditions(folder: &Path, t: &ConditionTable, study: &str) -> Result<(), StoreError> {
+    let p = folder.join("conditions.csv");
+    write_atomic(&p, conditions_csv(t).as_bytes()).map_err(|e| io_err(&p, e))?;
+    let title = match &t.reference {
+        Some(r) => format!("{study}: conditions against {r}"),
+        None => format!("{study}: conditions"),
+    };
+    if let Some(fig) = conditions_figure(t, folder, &title) {
+        crate::figures::write_figure(&folder.join("figure_conditions"), &fig)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    const STUDY: &str = r#"
+[study]
+name = "t"
+output = "out"
+[base]
+mesh_intervals = 10
+[grid]
+guesses = ["quasi-random"]
+[[grid.conditions]]
+name = "nominal"
+[[grid.conditions]]
+name = "weak"
+strength = [{ group = "hip", scale = 0.5 }]
+"#;
+
+    fn selected(case: &str, cot: f64) -> Selected {
+        Selected {
+            group: case.split("__").next().unwrap().into(),
+            axes: BTreeMap::new(),
+            case: case.into(),
+            guess: "quasi-random".into(),
+            objective: Some(1.0),
+            speed: 1.33,
+            cost_of_transport: Some(cot),
+            stride_frequency: None,
+            stride_length: Some(1.4),
+            gait: None,
+        }
+    }
+
+    /// A case folder with a summary holding the measures and an angle table.
+    fn write_case(root: &Path, case: &str, sway: f64, knee: f64) {
+        let dir = root.join("cases").join(case);
+        std::fs::create_dir_all(&dir).unwrap();
+        let summary = serde_json::json!({
+            "outcomes": {
+                "cost_of_transport": 0.0,
+                "step_width": 0.08 + sway / 1000.0,
+                "trunk_sway": sway,
+                "right": { "peak_knee_flexion": knee, "early_stance_ankle_plantarflexion_torque": 0.5 },
+                "left": { "peak_knee_flexion": knee }
+            }
+        });
+        std::fs::write(dir.join("summary.json"), summary.to_string()).unwrap();
+        let rows: String = (0..4)
+            .map(|k| format!("{},{}\n", 0.1 * k as f64, -knee * k as f64 / 4.0))
+            .collect();
+        std::fs::write(
+            dir.join("joint_angles.csv"),
+            format!("time,knee_angle_r\n{rows}"),
+        )
+        .unwrap();
+    }
+
+    #[test]
+    fn conditions_are_compared_with_the_base_case() {
+        let study = crate::spec::parse(STUDY, Path::new("t.toml")).unwrap();
+        let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
+        let root = std::env::temp_dir().join(format!("stride-conditions-{}", std::process::id()));
+        write_case(&root, names[0], 4.0, 20.0);
+        write_case(&root, names[1], 6.5, 26.0);
+        let sel = vec![selected(names[0], 3.9), selected(names[1], 4.3)];
+        let t = condition_table(&study, &sel, &root);
+        assert_eq!(t.reference.as_deref(), Some(sel[0].group.as_str()));
+        assert!(t.rows[0].reference && !t.rows[1].reference);
+        assert_eq!(t.rows[1].measures.as_ref().unwrap().trunk_sway, Some(6.5));
+        let csv = conditions_csv(&t);
+        let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        let row: Vec<&str> = csv.lines().nth(2).unwrap().split(',').collect();
+        assert_eq!(header.len(), row.len());
+        let col = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+        assert_eq!(col("trunk_sway_deg"), "6.5");
+        assert_eq!(col("right_peak_knee_flexion_deg"), "26");
+        assert!((col("step_width_m").parse::<f64>().unwrap() - 0.0865).abs() < 1e-12);
+        assert_eq!(col("right_stance_fraction"), "");
+        let text = conditions_text(&t);
+        assert!(text[1].contains("COT 4.30 J/kg/m (+0.40)"), "{}", text[1]);
+        assert!(text[1].contains("trunk sway 6.5° (+2.5)"), "{}", text[1]);
+        assert!(text[1].contains("right 0.50 N m/kg, left –"), "{}", text[1]);
+        assert!(text[0].contains("(reference)"));
+        write_conditions(&root, &t, "t").unwrap();
+        let svg = std::fs::read_to_string(root.join("figure_conditions.svg")).unwrap();
+        stride_plot::png::parse_svg(&svg).unwrap();
+        std::fs::remove_dir_all(&root).unwrap();
+    }
+
+    /// Summaries written before the measures existed give rows without measures.
+    #[test]
+    fn old_summaries_have_no_measures() {
+        let root =
+            std::env::temp_dir().join(format!("stride-conditions-old-{}", std::process::id()));
+        let dir = root.join("cases").join("c");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("summary.json"),
+            r#"{"outcomes": {"step_width": 0.1}}"#,
+        )
+        .unwrap();
+        assert_eq!(read_summary(&dir), (Some(0.1), None));
+        assert_eq!(read_summary(&root), (None, None));
+        std::fs::remove_dir_all(&root).unwrap();
+    }
+}
