@@ -89,6 +89,7 @@ fn results_are_valid_storage_files() {
         "activations.csv",
         "excitations.csv",
         "grf.csv",
+        "trunk_sway.csv",
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
