@@ -699,6 +699,7 @@ mod tests {
             time_factorisation: Duration::ZERO,
             factorizations: 0,
             objective_evaluations: 0,
+            exact_hessian_from: None,
             log: Vec::new(),
         };
         let solved = vec![predict::Solved {

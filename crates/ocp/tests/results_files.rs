@@ -40,6 +40,7 @@ fn results_are_valid_storage_files() {
         time_factorisation: Duration::ZERO,
         factorizations: 0,
         objective_evaluations: 0,
+        exact_hessian_from: None,
         log: Vec::new(),
     };
     let solved = vec![predict::Solved {

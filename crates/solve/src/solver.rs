@@ -286,6 +286,10 @@ pub struct SolveResult {
     pub time_factorisation: Duration,
     /// Number of objective evaluations.
     pub objective_evaluations: usize,
+    /// Iteration from which the exact Hessian replaced the limited-memory one
+    /// (`SolverOptions::exact_hessian_tail`); `None` when it never did.
+    #[serde(default)]
+    pub exact_hessian_from: Option<usize>,
     /// The iteration log.
     pub log: Vec<IterationRecord>,
 }

@@ -269,6 +269,7 @@ impl Solver for RipoptSolver {
             time_factorisation: Default::default(),
             factorizations: 0,
             objective_evaluations: counts.objective,
+            exact_hessian_from: None,
             log: monitor.log,
         })
     }

@@ -1958,6 +1958,7 @@ pub fn solve(
         time_factorisation: factor_time,
         factorizations,
         objective_evaluations: prob.n_obj,
+        exact_hessian_from: exact_from,
         log,
     };
     if options.print_level >= 1 {

@@ -284,6 +284,14 @@ fn exact_hessian_tail_reaches_the_exact_hessian_optimum_in_fewer_iterations() {
         hybrid.iterations,
         plain.iterations
     );
+    // The switch is recorded: after the first iteration, before the last; never without the
+    // option.
+    let k = hybrid
+        .exact_hessian_from
+        .expect("switch iteration recorded");
+    assert!(k > 0 && k < hybrid.iterations, "switched at {k}");
+    assert_eq!(plain.exact_hessian_from, None);
+    assert_eq!(exact.exact_hessian_from, None);
 }
 
 #[test]

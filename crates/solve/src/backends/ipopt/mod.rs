@@ -551,6 +551,7 @@ impl Solver for IpoptSolver {
             time_factorisation: Default::default(),
             factorizations: 0,
             objective_evaluations: counts.objective,
+            exact_hessian_from: None,
             log: monitor.log,
         })
     }
