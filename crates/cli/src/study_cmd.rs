@@ -4,10 +4,10 @@
 use crate::predict_cmd;
 use anyhow::Context;
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use stride_solve::solver::SolverOptions;
 use stride_study::analysis;
-use stride_study::predict_runner::{check_cases, PredictRunner};
+use stride_study::predict_runner::{check_cases, measures_from_solution, PredictRunner};
 use stride_study::runner::{run_study, RunOptions};
 use stride_study::spec;
 use stride_study::store::Store;
@@ -71,11 +71,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         )
         .with_context(section)?
     };
-    let model = match &h.model {
-        Some(p) => stride_model::osim::load_osim(p)
-            .with_context(|| format!("loading model {}", p.display()))?,
-        None => stride_model::default_model::default_model(),
-    };
+    let model = study_model(h.model.as_deref())?;
     check_cases(&model, &study.cases)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
     if args.dry_run {
@@ -112,7 +108,8 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
             retry_failed: args.retry_failed,
         },
     )?;
-    let report = analysis::report_folder(&out)?;
+    let recompute = |dir: &Path| measures_from_solution(&runner.model, dir);
+    let report = analysis::report_folder_with(&out, Some(&recompute))?;
     println!(
         "{} cases: {} converged, {} failed ({} run now, {} already done); index {}, report {}",
         study.cases.len(),
@@ -171,9 +168,22 @@ fn print_series(report: &analysis::Report) {
     }
 }
 
+/// The model of a study: its `model` file, else the built-in model.
+fn study_model(path: Option<&Path>) -> anyhow::Result<stride_model::Model> {
+    Ok(match path {
+        Some(p) => stride_model::osim::load_osim(p)
+            .with_context(|| format!("loading model {}", p.display()))?,
+        None => stride_model::default_model::default_model(),
+    })
+}
+
 /// Run `stride report`.
 pub fn report(args: ReportArgs) -> anyhow::Result<()> {
-    let report = analysis::report_folder(&args.folder)?;
+    // The condition measures are recomputed from the case solutions with the study's model.
+    let study = spec::load(&args.folder.join("study.toml"))?;
+    let model = study_model(study.header.model.as_deref())?;
+    let recompute = |dir: &Path| measures_from_solution(&model, dir);
+    let report = analysis::report_folder_with(&args.folder, Some(&recompute))?;
     println!(
         "study `{}`: {} cases, {} converged, {} failed, {} not run; {} groups selected; report {}",
         report.study,

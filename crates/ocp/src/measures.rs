@@ -22,7 +22,8 @@ pub const TRUNK_BODY: &str = "torso";
 pub struct LegMeasures {
     /// Fraction of the cycle in stance (longest contact phase).
     pub stance_fraction: Option<f64>,
-    /// Largest knee flexion during stance [deg].
+    /// Largest knee flexion over the first half of stance (loading response and mid
+    /// stance, before the knee flexes for push-off) [deg].
     pub peak_knee_flexion: Option<f64>,
     /// Largest ankle dorsiflexion during stance [deg].
     pub peak_ankle_dorsiflexion: Option<f64>,
@@ -123,7 +124,8 @@ impl GaitProblem {
         let first_half = &stance[..stance.len().div_ceil(2)];
         LegMeasures {
             stance_fraction: Some(stance.len() as f64 / contact.len() as f64),
-            peak_knee_flexion: knee.and_then(|(k, s)| peak(&stance, |i| s * cycle.q[i][k] * deg)),
+            peak_knee_flexion: knee
+                .and_then(|(k, s)| peak(first_half, |i| s * cycle.q[i][k] * deg)),
             peak_ankle_dorsiflexion: ankle.and_then(|k| peak(&stance, |i| cycle.q[i][k] * deg)),
             peak_hip_abduction_torque: hip_add
                 .and_then(|k| peak(&stance, |i| -cycle.torque[i][k] / mass)),
@@ -282,10 +284,12 @@ mod tests {
     fn leg_measures_cover_stance_only() {
         let p = problem();
         let n = 10;
-        // Right knee (gait2392: flexion negative) flexes 30° at sample 2 (stance) and 60° at
-        // sample 8 (swing); ankle dorsiflexes 15° at sample 3.
+        // Right knee (gait2392: flexion negative) flexes 30° at sample 2 (early stance), 40°
+        // at sample 5 (late stance) and 60° at sample 8 (swing); ankle dorsiflexes 15° at
+        // sample 3.
         let mut t = cycle(&p, n, &|k, name| match (name, k) {
             ("knee_angle_r", 2) => Some(-30f64.to_radians()),
+            ("knee_angle_r", 5) => Some(-40f64.to_radians()),
             ("knee_angle_r", 8) => Some(-60f64.to_radians()),
             ("ankle_angle_r", 3) => Some(15f64.to_radians()),
             _ => None,

@@ -373,8 +373,18 @@ fn o(v: Option<f64>) -> String {
 }
 
 /// Read a study output folder (its copy of the study file and the case records), write
-/// `report.json`, `selected.csv` and one `speed_series_<i>.csv` per series.
+/// `report.json`, `selected.csv` and one `speed_series_<i>.csv` per series, and the
+/// condition comparison with the measures stored in the case summaries.
 pub fn report_folder(folder: &Path) -> Result<Report, ReportError> {
+    report_folder_with(folder, None)
+}
+
+/// [`report_folder`], with the condition measures recomputed by `recompute` (from each
+/// case's solution, with the current definitions) where it succeeds.
+pub fn report_folder_with(
+    folder: &Path,
+    recompute: Option<crate::conditions::MeasuresOf>,
+) -> Result<Report, ReportError> {
     let study_file = folder.join("study.toml");
     let study = spec::load(&study_file)?;
     let store = Store {
@@ -383,7 +393,7 @@ pub fn report_folder(folder: &Path) -> Result<Report, ReportError> {
     let records: Vec<Option<CaseRecord>> =
         study.cases.iter().map(|c| store.record(&c.name)).collect();
     let mut report = build_report(&study.header.name, &study.cases, &records);
-    let table = crate::conditions::condition_table(&study, &report.selected, folder);
+    let table = crate::conditions::condition_table(&study, &report.selected, folder, recompute);
     // Written when at least one kept case has the measures in its summary.
     if table.rows.iter().any(|r| r.measures.is_some()) {
         report.conditions = Some(table);

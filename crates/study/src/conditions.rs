@@ -61,8 +61,18 @@ fn read_summary(dir: &Path) -> (Option<f64>, Option<ConditionMeasures>) {
     (step_width, measures)
 }
 
-/// Build the comparison from the selected cases of a study whose output folder is `folder`.
-pub fn condition_table(study: &Study, selected: &[Selected], folder: &Path) -> ConditionTable {
+/// Recomputes the condition measures of a case folder (from its solution) when it can.
+pub type MeasuresOf<'a> = &'a dyn Fn(&Path) -> Result<ConditionMeasures, String>;
+
+/// Build the comparison from the selected cases of a study whose output folder is `folder`;
+/// the measures come from `recompute` when given and it succeeds, else from the case's
+/// `summary.json`.
+pub fn condition_table(
+    study: &Study,
+    selected: &[Selected],
+    folder: &Path,
+    recompute: Option<MeasuresOf>,
+) -> ConditionTable {
     let is_reference = |s: &Selected| {
         study
             .cases
@@ -73,7 +83,9 @@ pub fn condition_table(study: &Study, selected: &[Selected], folder: &Path) -> C
     let rows: Vec<ConditionRow> = selected
         .iter()
         .map(|s| {
-            let (step_width, measures) = read_summary(&folder.join("cases").join(&s.case));
+            let dir = folder.join("cases").join(&s.case);
+            let (step_width, stored) = read_summary(&dir);
+            let measures = recompute.and_then(|f| f(&dir).ok()).or(stored);
             ConditionRow {
                 group: s.group.clone(),
                 case: s.case.clone(),
@@ -95,7 +107,9 @@ pub fn condition_table(study: &Study, selected: &[Selected], folder: &Path) -> C
 type LegField = (&'static str, fn(&LegMeasures) -> Option<f64>);
 const LEG_FIELDS: [LegField; 6] = [
     ("stance_fraction", |m| m.stance_fraction),
-    ("peak_knee_flexion_deg", |m| m.peak_knee_flexion),
+    ("early_stance_peak_knee_flexion_deg", |m| {
+        m.peak_knee_flexion
+    }),
     ("peak_ankle_dorsiflexion_deg", |m| m.peak_ankle_dorsiflexion),
     ("peak_hip_abduction_torque_nm_per_kg", |m| {
         m.peak_hip_abduction_torque
@@ -178,7 +192,7 @@ pub fn conditions_text(t: &ConditionTable) -> Vec<String> {
             let (pf_r, _) = g(&|x| x.right.early_stance_ankle_plantarflexion_torque);
             let (pf_l, _) = g(&|x| x.left.early_stance_ankle_plantarflexion_torque);
             format!(
-                "{}{}: COT {}, step width {}, trunk sway {}; stance peaks (right): knee flexion {}, ankle dorsiflexion {}, hip abduction torque {}; early-stance plantarflexion torque right {}, left {}",
+                "{}{}: COT {}, step width {}, trunk sway {}; right leg: early-stance knee flexion {}, stance ankle dorsiflexion {}, hip abduction torque {}; early-stance plantarflexion torque right {}, left {}",
                 r.group,
                 if r.reference { " (reference)" } else { "" },
                 fmt(r.cost_of_transport, reference.and_then(|x| x.cost_of_transport), 2, " J/kg/m"),
@@ -397,7 +411,7 @@ strength = [{ group = "hip", scale = 0.5 }]
         write_case(&root, names[0], 4.0, 20.0);
         write_case(&root, names[1], 6.5, 26.0);
         let sel = vec![selected(names[0], 3.9), selected(names[1], 4.3)];
-        let t = condition_table(&study, &sel, &root);
+        let t = condition_table(&study, &sel, &root, None);
         assert_eq!(t.reference.as_deref(), Some(sel[0].group.as_str()));
         assert!(t.rows[0].reference && !t.rows[1].reference);
         assert_eq!(t.rows[1].measures.as_ref().unwrap().trunk_sway, Some(6.5));
@@ -407,7 +421,7 @@ strength = [{ group = "hip", scale = 0.5 }]
         assert_eq!(header.len(), row.len());
         let col = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
         assert_eq!(col("trunk_sway_deg"), "6.5");
-        assert_eq!(col("right_peak_knee_flexion_deg"), "26");
+        assert_eq!(col("right_early_stance_peak_knee_flexion_deg"), "26");
         assert!((col("step_width_m").parse::<f64>().unwrap() - 0.0865).abs() < 1e-12);
         assert_eq!(col("right_stance_fraction"), "");
         let text = conditions_text(&t);

@@ -12,6 +12,7 @@ use std::sync::Arc;
 use stride_model::storage::write_atomic;
 use stride_model::Model;
 use stride_ocp::guess::{ContinuationKind, GuessKind};
+use stride_ocp::measures::ConditionMeasures;
 use stride_ocp::node::NodeModel;
 use stride_ocp::predict::{self, GuessReport, Solved};
 use stride_ocp::problem::{GaitProblem, GRAVITY};
@@ -225,6 +226,31 @@ impl CaseRunner for PredictRunner {
         }
         Ok(outcome)
     }
+}
+
+/// Condition measures (`stride_ocp::measures`) of a finished case recomputed from its
+/// `solution.json`, so that a report uses the current definitions for cases solved by an
+/// earlier version.
+pub fn measures_from_solution(model: &Model, dir: &Path) -> Result<ConditionMeasures, String> {
+    let p = dir.join(SOLUTION_FILE);
+    let text = std::fs::read_to_string(&p).map_err(|e| format!("reading {}: {e}", p.display()))?;
+    let sol: SolutionFile =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
+    let problem = GaitProblem::new(model, &sol.settings, &predict::bounds_data(&sol.settings))
+        .map_err(err)?;
+    if sol.x.len() != problem.layout.len() {
+        return Err(format!(
+            "{}: {} variables, the problem of its settings has {}",
+            p.display(),
+            sol.x.len(),
+            problem.layout.len()
+        ));
+    }
+    let node = NodeModel::new(&problem).map_err(err)?;
+    let mesh = problem.mesh_solution(&node, &sol.x).map_err(err)?;
+    problem
+        .condition_measures(&problem.gait_cycle(&mesh))
+        .map_err(err)
 }
 
 /// Build every case's problem once (model changes, bounds) so that a case the model cannot

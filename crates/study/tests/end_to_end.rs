@@ -6,7 +6,9 @@
 use std::path::Path;
 use std::time::Duration;
 use stride_solve::solver::{MuStrategy, SolverOptions};
-use stride_study::predict_runner::{check_cases, PredictRunner, SOLUTION_FILE};
+use stride_study::predict_runner::{
+    check_cases, measures_from_solution, PredictRunner, SOLUTION_FILE,
+};
 use stride_study::runner::{run_study, RunOptions};
 use stride_study::spec;
 use stride_study::store::Store;
@@ -68,5 +70,18 @@ guesses = ["quasi-random", "full-os", "partial-os"]
     assert_eq!(fos.continued_from.as_deref(), Some("speed_1.33__qr"));
     let report = stride_study::analysis::report_folder(&out).unwrap();
     assert_eq!(report.cases, 4);
+    // The condition measures can be recomputed from a written solution; a solution that
+    // does not fit the problem of its settings is an error that says so.
+    let case = out.join("cases").join("speed_1.33__qr");
+    let m = measures_from_solution(&runner.model, &case).unwrap();
+    assert!(m.trunk_sway.is_some_and(|s| s.is_finite() && s >= 0.0));
+    let text = std::fs::read_to_string(case.join(SOLUTION_FILE)).unwrap();
+    let mut sol: serde_json::Value = serde_json::from_str(&text).unwrap();
+    sol["x"].as_array_mut().unwrap().pop();
+    let bad = out.join("bad");
+    std::fs::create_dir_all(&bad).unwrap();
+    std::fs::write(bad.join(SOLUTION_FILE), sol.to_string()).unwrap();
+    let e = measures_from_solution(&runner.model, &bad).unwrap_err();
+    assert!(e.contains("variables"), "{e}");
     let _ = std::fs::remove_dir_all(&out);
 }
