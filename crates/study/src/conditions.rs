@@ -209,7 +209,7 @@ pub fn conditions_text(t: &ConditionTable) -> Vec<String> {
 }
 
 /// A column of a case's CSV table over the gait cycle: (% cycle, values).
-fn cycle_column(path: &Path, column: &str) -> Option<(Vec<f64>, Vec<f64>)> {
+pub(crate) fn cycle_column(path: &Path, column: &str) -> Option<(Vec<f64>, Vec<f64>)> {
     let text = std::fs::read_to_string(path).ok()?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next()?.split(',').collect();

@@ -18,8 +18,40 @@ fn fit_curve(f: &Fit, lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     (x, y)
 }
 
-/// The figure of one speed series (`None` with fewer than two points with outcomes).
-pub fn speed_series_figure(s: &SpeedSeries, title: &str) -> Option<Figure> {
+/// Colour of a speed on a blue (slowest) to red (fastest) scale.
+fn speed_colour(v: f64, lo: f64, hi: f64) -> Color {
+    let t = if hi > lo {
+        ((v - lo) / (hi - lo)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mix = |a: u8, b: u8| (a as f64 + t * (b as f64 - a as f64)).round() as u8;
+    Color::rgb(mix(0, 200), mix(90, 30), mix(181, 45))
+}
+
+/// Panel of the right vertical ground reaction force [% body weight] over the gait cycle,
+/// one line per speed, read from the kept cases' `grf.csv` under `folder/cases`.
+fn vertical_grf_panel(s: &SpeedSeries, folder: &Path) -> Option<Panel> {
+    let (lo, hi) = (s.points.first()?.speed, s.points.last()?.speed);
+    let mut panel = Panel::new(
+        "Vertical GRF (right), blue slow → red fast",
+        "gait cycle [%]",
+        "force [% body weight]",
+    );
+    let mut any = false;
+    for p in &s.points {
+        let file = folder.join("cases").join(&p.case).join("grf.csv");
+        if let Some((x, y)) = crate::conditions::cycle_column(&file, "right_y_pct_bw") {
+            panel = panel.line(Series::new(x, y, speed_colour(p.speed, lo, hi)).width(1.5));
+            any = true;
+        }
+    }
+    any.then_some(panel)
+}
+
+/// The figure of one speed series (`None` with fewer than two points with outcomes); with
+/// `folder`, a third panel shows the vertical ground reaction force per speed.
+pub fn speed_series_figure(s: &SpeedSeries, title: &str, folder: Option<&Path>) -> Option<Figure> {
     let (xc, yc): (Vec<f64>, Vec<f64>) = s
         .points
         .iter()
@@ -55,7 +87,9 @@ pub fn speed_series_figure(s: &SpeedSeries, title: &str) -> Option<Figure> {
     for l in walk_fit.iter().chain(&run_fit) {
         cot = cot.line(l.clone());
     }
-    let mut fig = Figure::new(1200, 500, 1, 2)
+    let grf = folder.and_then(|f| vertical_grf_panel(s, f));
+    let columns = if grf.is_some() { 3 } else { 2 };
+    let mut fig = Figure::new(600 * columns as u32, 500, 1, columns)
         .title(title.to_string())
         .legend_entry(LegendEntry::for_series(&data, "prediction"));
     if let (Some(l), Some(f)) = (&walk_fit, &s.cot_walking_fit) {
@@ -86,7 +120,11 @@ pub fn speed_series_figure(s: &SpeedSeries, title: &str) -> Option<Figure> {
             sf = sf.line(Series::new(x, y, Color::BLUE).dash(vec![6.0, 4.0]));
         }
     }
-    Some(fig.panel(cot).panel(sf))
+    let fig = fig.panel(cot).panel(sf);
+    Some(match grf {
+        Some(g) => fig.panel(g),
+        None => fig,
+    })
 }
 
 /// Write `figure_speed_series_<i>.svg` and `.png` for every series of a report.
@@ -98,7 +136,7 @@ pub fn write_speed_figures(folder: &Path, series: &[SpeedSeries]) -> Result<(), 
         } else {
             format!("Speed dependence ({})", key.join(", "))
         };
-        let Some(fig) = speed_series_figure(s, &title) else {
+        let Some(fig) = speed_series_figure(s, &title, Some(folder)) else {
             continue;
         };
         write_figure(&folder.join(format!("figure_speed_series_{i}")), &fig)?;
@@ -114,4 +152,58 @@ pub fn write_figure(base: &Path, fig: &Figure) -> Result<(), StoreError> {
     write_atomic(&p, svg.as_bytes()).map_err(|e| io_err(&p, e))?;
     let p = base.with_extension("png");
     write_atomic(&p, &png).map_err(|e| io_err(&p, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::{speed_series_of, Selected};
+    use std::collections::BTreeMap;
+
+    fn point(speed: f64, case: &str) -> Selected {
+        Selected {
+            group: case.into(),
+            axes: BTreeMap::new(),
+            case: case.into(),
+            guess: "quasi-random".into(),
+            objective: Some(1.0),
+            speed,
+            cost_of_transport: Some(3.0 + speed),
+            stride_frequency: Some(0.6 + 0.2 * speed),
+            stride_length: Some(1.4),
+            gait: None,
+        }
+    }
+
+    /// The vertical GRF panel appears when the kept cases have their `grf.csv`, with one
+    /// line per speed coloured from blue (slowest) to red (fastest).
+    #[test]
+    fn speed_figure_draws_the_vertical_grf_of_each_speed() {
+        let root = std::env::temp_dir().join(format!("stride-speed-fig-{}", std::process::id()));
+        let s = speed_series_of(BTreeMap::new(), vec![point(1.0, "a"), point(2.0, "b")]);
+        assert_eq!(
+            speed_series_figure(&s, "t", Some(&root))
+                .unwrap()
+                .panels
+                .len(),
+            2
+        );
+        for case in ["a", "b"] {
+            let dir = root.join("cases").join(case);
+            std::fs::create_dir_all(&dir).unwrap();
+            let rows: String = (0..5)
+                .map(|k| format!("{},0,{},0\n", 0.1 * k as f64, 20 * k))
+                .collect();
+            std::fs::write(
+                dir.join("grf.csv"),
+                format!("time,right_x_pct_bw,right_y_pct_bw,right_z_pct_bw\n{rows}"),
+            )
+            .unwrap();
+        }
+        let fig = speed_series_figure(&s, "t", Some(&root)).unwrap();
+        assert_eq!(fig.panels.len(), 3);
+        assert_eq!(speed_colour(1.0, 1.0, 2.0), Color::rgb(0, 90, 181));
+        assert_eq!(speed_colour(2.0, 1.0, 2.0), Color::rgb(200, 30, 45));
+        std::fs::remove_dir_all(&root).unwrap();
+    }
 }
