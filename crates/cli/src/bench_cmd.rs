@@ -84,8 +84,13 @@ pub struct PredictArgs {
     /// Solver backend: ipm, ipopt (needs the `ipopt` feature) or all.
     #[arg(long, default_value = "ipm")]
     pub backend: String,
-    /// Hessian modes, comma separated: exact, limited-memory, hybrid.
-    #[arg(long, value_delimiter = ',', default_value = "exact,limited-memory")]
+    /// Hessian modes, comma separated: hybrid (the default of `stride predict`), exact,
+    /// limited-memory.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "hybrid,exact,limited-memory"
+    )]
     pub hessian: Vec<String>,
     /// Initial guesses, comma separated: data-informed-walking, quasi-random, data-informed-running.
     #[arg(
@@ -262,7 +267,7 @@ struct Case {
 fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
     nominal_settings(a.mesh)?;
     for h in &a.hessian {
-        predict_cmd::parse_hessian(Some(h))?;
+        predict_cmd::parse_hessian(Some(h), "ipm")?;
     }
     for g in &a.guess {
         predict_cmd::parse_guess(g)?;
@@ -280,6 +285,12 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
     let mut cases = Vec::new();
     for &backend in &backends {
         for h in &a.hessian {
+            if predict_cmd::parse_hessian(Some(h), backend).is_err() {
+                println!(
+                    "> note: hessian `{h}` is not available with backend `{backend}`: skipped"
+                );
+                continue;
+            }
             for g in &a.guess {
                 cases.push(Case {
                     backend,
@@ -376,7 +387,7 @@ fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
     let settings = nominal_settings(a.mesh)?;
     let solver = predict_cmd::backend(&a.backend)?;
     let guess = predict_cmd::parse_guess(&a.guess)?;
-    let hessian = predict_cmd::parse_hessian(Some(&a.hessian))?;
+    let hessian = predict_cmd::parse_hessian(Some(&a.hessian), &a.backend)?;
     let options = predict_cmd::prediction_options(None, Some(a.max_iter), hessian, a.time_limit)?;
     let model = stride_model::default_model::default_model();
     let (_, solved) = predict::solve_guesses(

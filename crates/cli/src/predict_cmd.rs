@@ -116,15 +116,23 @@ pub(crate) struct HessianChoice {
     pub exact_tail: bool,
 }
 
-/// The Hessian named on the command line or in a study file: `hybrid` (default: L-BFGS with
-/// 6 pairs until μ reaches its floor, then exact), `limited-memory` (L-BFGS throughout, the
-/// paper's choice) or `exact`. At 50 intervals hybrid converged in 272 and 360 iterations
-/// (data-informed, quasi-random) to lower optima than L-BFGS in 664 and 762; with the exact
-/// Hessian from the start the pure-Rust solver stalls from 20 intervals on (decision 0002).
-pub(crate) fn parse_hessian(name: Option<&str>) -> anyhow::Result<HessianChoice> {
+/// The Hessian named on the command line or in a study file for solver `backend`: `hybrid`
+/// (L-BFGS with 6 pairs until μ reaches its floor, then exact; the default with `ipm`, the
+/// only backend that has it), `limited-memory` (L-BFGS throughout, the paper's choice and the
+/// default with `ipopt`) or `exact`. At 50 intervals hybrid converged in 272 and 360
+/// iterations (data-informed, quasi-random) to lower optima than L-BFGS in 664 and 762; with
+/// the exact Hessian from the start the pure-Rust solver stalls from 20 intervals on
+/// (decision 0002).
+pub(crate) fn parse_hessian(name: Option<&str>, backend: &str) -> anyhow::Result<HessianChoice> {
     let lbfgs = HessianMode::LimitedMemory { history: 6 };
+    let hybrid_here = backend == "ipm";
     let (mode, exact_tail) = match name.map(str::trim) {
-        None | Some("hybrid") => (lbfgs, true),
+        None if hybrid_here => (lbfgs, true),
+        None => (lbfgs, false),
+        Some("hybrid") if hybrid_here => (lbfgs, true),
+        Some("hybrid") => bail!(
+            "hessian `hybrid` needs the ipm solver (solver `{backend}` has exact or limited-memory)"
+        ),
         Some("limited-memory") => (lbfgs, false),
         Some("exact") => (HessianMode::Exact, false),
         Some(other) => bail!("unknown hessian `{other}` (exact, limited-memory, hybrid)"),
@@ -204,7 +212,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         .or(s.backend.clone())
         .unwrap_or_else(|| "ipm".into());
     let solver = backend(&backend_name)?;
-    let hessian = parse_hessian(args.hessian.or(s.hessian.clone()).as_deref())?;
+    let hessian = parse_hessian(args.hessian.or(s.hessian.clone()).as_deref(), &backend_name)?;
     let options = prediction_options(
         args.tol.or(s.tol),
         args.max_iter.or(s.max_iter),
@@ -290,17 +298,27 @@ mod tests {
     fn hessian_names_map_to_modes_and_the_exact_tail() {
         let lbfgs = HessianMode::LimitedMemory { history: 6 };
         let c = |mode, exact_tail| HessianChoice { mode, exact_tail };
-        assert_eq!(parse_hessian(None).unwrap(), c(lbfgs, true));
-        assert_eq!(parse_hessian(Some("hybrid")).unwrap(), c(lbfgs, true));
+        assert_eq!(parse_hessian(None, "ipm").unwrap(), c(lbfgs, true));
         assert_eq!(
-            parse_hessian(Some("limited-memory")).unwrap(),
+            parse_hessian(Some("hybrid"), "ipm").unwrap(),
+            c(lbfgs, true)
+        );
+        assert_eq!(
+            parse_hessian(Some("limited-memory"), "ipm").unwrap(),
             c(lbfgs, false)
         );
         assert_eq!(
-            parse_hessian(Some(" exact")).unwrap(),
+            parse_hessian(Some(" exact"), "ipm").unwrap(),
             c(HessianMode::Exact, false)
         );
-        let e = parse_hessian(Some("bfgs")).unwrap_err().to_string();
+        let e = parse_hessian(Some("bfgs"), "ipm").unwrap_err().to_string();
         assert!(e.contains("unknown hessian `bfgs`"), "{e}");
+        // IPOPT has no hybrid mode: its default is the paper's limited-memory Hessian, and
+        // asking for hybrid is an error, not silently something else.
+        assert_eq!(parse_hessian(None, "ipopt").unwrap(), c(lbfgs, false));
+        let e = parse_hessian(Some("hybrid"), "ipopt")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("needs the ipm solver"), "{e}");
     }
 }

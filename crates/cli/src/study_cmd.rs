@@ -57,9 +57,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     let s = &h.solver;
     // the same names, defaults and checks as `stride predict`, errors prefixed by the section
     let section = || format!("{}: [study.solver]", args.file.display());
-    let solver =
-        predict_cmd::backend(s.backend.as_deref().unwrap_or("ipm")).with_context(section)?;
-    let hessian = predict_cmd::parse_hessian(s.hessian.as_deref()).with_context(section)?;
+    let backend_name = s.backend.as_deref().unwrap_or("ipm");
+    let solver = predict_cmd::backend(backend_name).with_context(section)?;
+    let hessian =
+        predict_cmd::parse_hessian(s.hessian.as_deref(), backend_name).with_context(section)?;
     let threads = args.threads.unwrap_or(h.threads_per_case).max(1);
     let options = SolverOptions {
         threads,

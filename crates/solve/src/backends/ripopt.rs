@@ -50,6 +50,14 @@ pub fn ripopt_options(o: &SolverOptions) -> Result<ripopt::SolverOptions, SolveE
             reason: format!("must be > 0, got {}", o.tol),
         });
     }
+    if o.exact_hessian_tail {
+        return Err(SolveError::InvalidOption {
+            name: "exact_hessian_tail",
+            reason: "ripopt cannot switch from the limited-memory to the exact Hessian during a \
+                     solve (a stride-ipm feature); choose the exact or the limited-memory Hessian"
+                .into(),
+        });
+    }
     let mut r = ripopt::SolverOptions {
         tol: o.tol,
         max_iter: o.max_iter,
@@ -341,5 +349,18 @@ mod tests {
             ..SolverOptions::default()
         };
         assert!(ripopt_options(&o).is_err());
+        let o = SolverOptions {
+            hessian: HessianMode::LimitedMemory { history: 6 },
+            exact_hessian_tail: true,
+            ..SolverOptions::default()
+        };
+        let e = ripopt_options(&o).unwrap_err();
+        assert!(matches!(
+            e,
+            SolveError::InvalidOption {
+                name: "exact_hessian_tail",
+                ..
+            }
+        ));
     }
 }

@@ -62,6 +62,14 @@ pub fn ipopt_options(
     linear_solver: &str,
 ) -> Result<Vec<(&'static str, OptionValue)>, SolveError> {
     use OptionValue::{Int, Num, Str};
+    if o.exact_hessian_tail {
+        return Err(SolveError::InvalidOption {
+            name: "exact_hessian_tail",
+            reason: "IPOPT cannot switch from the limited-memory to the exact Hessian during a \
+                     solve (a stride-ipm feature); choose the exact or the limited-memory Hessian"
+                .into(),
+        });
+    }
     let int = |name: &'static str, v: usize| {
         i32::try_from(v).map_err(|_| SolveError::InvalidOption {
             name,
@@ -602,6 +610,26 @@ mod tests {
             .unwrap();
         assert_eq!(r.status, SolveStatus::Interrupted);
         assert_eq!(r.log.len(), 3);
+    }
+
+    #[test]
+    fn hybrid_hessian_is_an_option_error() {
+        let o = SolverOptions {
+            hessian: HessianMode::LimitedMemory { history: 6 },
+            exact_hessian_tail: true,
+            ..SolverOptions::default()
+        };
+        let e = ipopt_options(&o, "mumps").unwrap_err();
+        assert!(
+            matches!(
+                e,
+                SolveError::InvalidOption {
+                    name: "exact_hessian_tail",
+                    ..
+                }
+            ),
+            "{e}"
+        );
     }
 
     #[test]
