@@ -73,12 +73,14 @@ pub fn condition_table(
     folder: &Path,
     recompute: Option<MeasuresOf>,
 ) -> ConditionTable {
+    // A reference needs something to be compared with: none in a one-group study.
     let is_reference = |s: &Selected| {
-        study
-            .cases
-            .iter()
-            .find(|c| c.name == s.case)
-            .is_some_and(|c| c.settings == study.base)
+        selected.len() > 1
+            && study
+                .cases
+                .iter()
+                .find(|c| c.name == s.case)
+                .is_some_and(|c| c.settings == study.base)
     };
     let rows: Vec<ConditionRow> = selected
         .iter()
@@ -251,12 +253,7 @@ const FIGURE_PANELS: [(&str, &str, &str, &str); 8] = [
         "ankle_angle_r",
         "angle [deg]",
     ),
-    (
-        "Lumbar bending",
-        "joint_angles.csv",
-        "lumbar_bending",
-        "angle [deg]",
-    ),
+    ("Trunk sway", "trunk_sway.csv", "trunk_sway", "angle [deg]"),
     (
         "Hip adduction torque (right)",
         "joint_torques.csv",
@@ -294,7 +291,8 @@ const PALETTE: [Color; 6] = [
 ];
 
 /// Figure of angles and torques over the gait cycle, one line per selected case (`None`
-/// when fewer than two cases have tables).
+/// when no case has tables; one case alone, e.g. the prosthesis, still shows its right and left
+/// ankle torques).
 pub fn conditions_figure(t: &ConditionTable, folder: &Path, title: &str) -> Option<Figure> {
     let mut fig = Figure::new(1600, 800, 2, 4).title(title.to_string());
     let mut panels: Vec<Panel> = FIGURE_PANELS
@@ -324,7 +322,7 @@ pub fn conditions_figure(t: &ConditionTable, folder: &Path, title: &str) -> Opti
         }
         drawn += usize::from(any);
     }
-    if drawn < 2 {
+    if drawn == 0 {
         return None;
     }
     Some(panels.into_iter().fold(fig, |f, p| f.panel(p)))
@@ -397,6 +395,11 @@ strength = [{ group = "hip", scale = 0.5 }]
             .map(|k| format!("{},{}\n", 0.1 * k as f64, -knee * k as f64 / 4.0))
             .collect();
         std::fs::write(
+            dir.join("trunk_sway.csv"),
+            format!("time,trunk_sway\n0,{sway}\n0.1,0\n"),
+        )
+        .unwrap();
+        std::fs::write(
             dir.join("joint_angles.csv"),
             format!("time,knee_angle_r\n{rows}"),
         )
@@ -432,6 +435,17 @@ strength = [{ group = "hip", scale = 0.5 }]
         write_conditions(&root, &t, "t").unwrap();
         let svg = std::fs::read_to_string(root.join("figure_conditions.svg")).unwrap();
         stride_plot::png::parse_svg(&svg).unwrap();
+        let fig = conditions_figure(&t, &root, "t").unwrap();
+        let sway = fig.panels.iter().find(|p| p.title == "Trunk sway").unwrap();
+        assert_eq!(sway.series.len(), 2, "one trunk sway line per case");
+        // Alone, the base case is no reference (nothing to compare with).
+        let alone = condition_table(&study, &sel[..1], &root, None);
+        assert_eq!(alone.reference, None);
+        assert!(
+            !conditions_text(&alone)[0].contains('('),
+            "{}",
+            conditions_text(&alone)[0]
+        );
         std::fs::remove_dir_all(&root).unwrap();
     }
 
