@@ -281,13 +281,18 @@ const FIGURE_PANELS: [(&str, &str, &str, &str); 8] = [
 ];
 
 /// Line colours of the compared cases (the reference is drawn black and wider).
-const PALETTE: [Color; 6] = [
+/// Beyond its length the colours repeat dashed.
+const PALETTE: [Color; 10] = [
     Color::BLUE,
     Color::RED,
     Color::GREEN,
     Color::ORANGE,
     Color::rgb(120, 60, 160),
     Color::GREY,
+    Color::rgb(140, 80, 20),
+    Color::rgb(0, 150, 150),
+    Color::rgb(220, 90, 160),
+    Color::rgb(120, 120, 0),
 ];
 
 /// Figure of angles and torques over the gait cycle, one line per selected case (`None`
@@ -303,16 +308,20 @@ pub fn conditions_figure(t: &ConditionTable, folder: &Path, title: &str) -> Opti
     let mut colour = 0;
     for r in &t.rows {
         let dir = folder.join("cases").join(&r.case);
-        let (c, w) = if r.reference {
-            (Color::BLACK, 2.5)
+        let (c, w, dashed) = if r.reference {
+            (Color::BLACK, 2.5, false)
         } else {
             colour += 1;
-            (PALETTE[(colour - 1) % PALETTE.len()], 1.5)
+            let k = colour - 1;
+            (PALETTE[k % PALETTE.len()], 1.5, k >= PALETTE.len())
         };
         let mut any = false;
         for (panel, (_, file, column, _)) in panels.iter_mut().zip(FIGURE_PANELS) {
             if let Some((x, y)) = cycle_column(&dir.join(file), column) {
-                let s = Series::new(x, y, c).width(w);
+                let mut s = Series::new(x, y, c).width(w);
+                if dashed {
+                    s = s.dash(vec![6.0, 3.0]);
+                }
                 if !any {
                     fig = fig.legend_entry(LegendEntry::for_series(&s, &r.group));
                 }
