@@ -1,6 +1,8 @@
 //! Experimental data shipped with stride (subject1 of Falisse et al. 2019, MIT licence,
 //! via 3dpredictsim): average inverse-kinematics cycles for bounds and data-informed
-//! guesses, and walking means ± SD for figures. Regenerate with
+//! guesses, walking means ± SD (and trunk sway) for figures, and the affected-side ankle
+//! torque of six transtibial amputees (Quesada et al. 2016, via 3dpredictsim) for the
+//! prosthesis figure. Regenerate with
 //! `stride data import --reference <shared/reference>`, which reads the reference files
 //! with stride's own readers and writes them in stride's formats.
 
@@ -137,6 +139,50 @@ fn parse_mean_std(path: &Path) -> Result<BTreeMap<String, Channel>, DataError> {
     Ok(out)
 }
 
+/// Mean and sample SD (N − 1) across the per-subject columns (`subject<k>_<name>_<unit>`)
+/// of a table with one row per sample, as one channel named `<name>` with unit `<unit>`.
+fn parse_subjects(path: &Path, name: &str) -> Result<Channel, DataError> {
+    let text = read(path)?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let tag = format!("_{name}_");
+    let cols: Vec<usize> = (0..header.len())
+        .filter(|&c| header[c].starts_with("subject") && header[c].contains(&tag))
+        .collect();
+    let unit = cols
+        .first()
+        .and_then(|&c| header[c].split_once(&tag))
+        .map(|(_, u)| u.to_string())
+        .ok_or_else(|| DataError::Format {
+            path: path.display().to_string(),
+            line: 1,
+            reason: format!("no `subject<k>{tag}<unit>` columns"),
+        })?;
+    let n = cols.len() as f64;
+    let mut ch = Channel {
+        unit,
+        mean: Vec::new(),
+        std: Vec::new(),
+    };
+    for (ln, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+        let fields: Vec<&str> = line.split(',').collect();
+        let v: Vec<f64> = cols
+            .iter()
+            .map(|&c| fields.get(c).and_then(|f| f.trim().parse().ok()))
+            .collect::<Option<_>>()
+            .ok_or_else(|| DataError::Format {
+                path: path.display().to_string(),
+                line: ln + 2,
+                reason: "a subject column is not a number".into(),
+            })?;
+        let mean = v.iter().sum::<f64>() / n;
+        let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        ch.mean.push(mean);
+        ch.std.push(var.sqrt());
+    }
+    Ok(ch)
+}
+
 /// Mean and SD rows of `walking_step_width_stride_length.csv`.
 fn parse_step_stride(path: &Path) -> Result<([f64; 2], [f64; 2]), DataError> {
     let text = read(path)?;
@@ -214,6 +260,21 @@ pub fn import_reference(reference: &Path, out_dir: &Path) -> Result<Vec<String>,
             parse_mean_std(&exp.join(format!("walking_{q}_mean_std.csv")))?,
         );
     }
+    // Trunk sway of the same trials (mean ± SD series, deg).
+    quantities.insert(
+        "trunk_sway".to_string(),
+        parse_mean_std(&exp.join("walking_trunk_sway.csv"))?,
+    );
+    // Affected-side ankle torque of six transtibial amputees (Quesada et al. 2016).
+    let mut prosthesis = BTreeMap::new();
+    prosthesis.insert(
+        "ankle_torque".to_string(),
+        parse_subjects(
+            &exp.join("quesada2016_prosthesis_ankle_torque.csv"),
+            "ankle_torque",
+        )?,
+    );
+    quantities.insert("prosthesis".to_string(), prosthesis);
     let (step_width, stride_length) =
         parse_step_stride(&exp.join("walking_step_width_stride_length.csv"))?;
     let reference = WalkingReference {
@@ -229,4 +290,31 @@ pub fn import_reference(reference: &Path, out_dir: &Path) -> Result<Vec<String>,
     })?;
     written.push(out.display().to_string());
     Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn subject_columns_give_mean_and_sample_sd() {
+        let dir = std::env::temp_dir().join(format!("stride-subjects-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("t.csv");
+        std::fs::write(
+            &p,
+            "sample,gait_cycle_pct,subject1_ankle_torque_Nm_per_kg,subject2_ankle_torque_Nm_per_kg,subject3_ankle_torque_Nm_per_kg\n\
+             1,0,1,2,3\n2,1,-1,-1,-1\n",
+        )
+        .unwrap();
+        let c = parse_subjects(&p, "ankle_torque").unwrap();
+        assert_eq!(c.unit, "Nm_per_kg");
+        assert_eq!(c.mean, vec![2.0, -1.0]);
+        assert_eq!(c.std, vec![1.0, 0.0]);
+        assert!(parse_subjects(&p, "knee_torque").is_err());
+        std::fs::write(&p, "sample,subject1_ankle_torque_Nm\n1,x\n").unwrap();
+        let e = parse_subjects(&p, "ankle_torque").unwrap_err().to_string();
+        assert!(e.contains("line 2"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -53,6 +53,9 @@ pub struct CycleTables {
     pub grf_labels: Vec<String>,
     /// Ground reaction forces [% body weight], columns as `grf_labels`.
     pub grf_bw: Vec<Vec<f64>>,
+    /// Torso rotation about the ground forward axis [deg] (its range is the trunk sway);
+    /// `None` for a model without a `torso` body.
+    pub trunk_sway: Option<Vec<f64>>,
 }
 
 impl CycleTables {
@@ -103,6 +106,11 @@ impl CycleTables {
                 .flat_map(|s| ["x", "y", "z"].map(|k| format!("{s}_{k}_pct_bw")))
                 .collect(),
             grf_bw,
+            trunk_sway: problem
+                .trunk_frontal_angles(&cycle.q)
+                .ok()
+                .flatten()
+                .map(|a| a.iter().map(|v| v.to_degrees()).collect()),
         }
     }
 
@@ -426,16 +434,93 @@ fn grid(title: &str, panels: Vec<Panel>, cols: usize, cell: (u32, u32)) -> Figur
     f
 }
 
-/// The figures of a predicted gait cycle against `reference`: kinematics, kinetics
-/// (torques, powers, GRF) and muscle activations.
+/// Trunk sway panel: the torso's rotation about the forward axis against the experiment.
+fn trunk_panel(t: &CycleTables, reference: &WalkingReference) -> Option<Panel> {
+    let sway = t.trunk_sway.as_ref()?;
+    let rows: Vec<Vec<f64>> = sway.iter().map(|&v| vec![v]).collect();
+    let mut p = base_panel("Trunk sway", DEG);
+    if let Some(b) = reference_band(
+        reference,
+        "trunk_sway",
+        "trunk_sway",
+        1.0,
+        "experiment (mean ± 2 SD)",
+    ) {
+        p = p.band(b);
+    }
+    Some(p.line(prediction(
+        &t.percent_closed(),
+        CycleTables::column(&rows, 0, 1.0),
+    )))
+}
+
+/// Rows of `rows` rotated to start at sample `start` (periodic cycle).
+fn rotated(rows: &[Vec<f64>], start: usize) -> Vec<Vec<f64>> {
+    let n = rows.len();
+    (0..n).map(|k| rows[(start + k) % n].clone()).collect()
+}
+
+/// The prosthesis figure (FORMULATION 12.1): ankle torque [N m kg⁻¹] of the affected (right)
+/// and unaffected (left) leg, each from its own heel strike, against the affected-side
+/// torque of six transtibial amputees (Quesada et al. 2016, mean ± 2 SD). `None` when a
+/// side never touches the ground or the model lacks an ankle.
+pub fn prosthesis_figure(t: &CycleTables, reference: &WalkingReference) -> Option<NamedFigure> {
+    let x = t.percent_closed();
+    let per_kg = 1.0 / t.body_mass;
+    let threshold = 100.0 * crate::trajectory::CONTACT_THRESHOLD / (t.body_mass * GRAVITY);
+    let strike = |grf_col: usize| {
+        let contact: Vec<bool> = t.grf_bw.iter().map(|r| r[grf_col] > threshold).collect();
+        crate::measures::stance_phase(&contact).first().copied()
+    };
+    let ankle = |side: &str| {
+        t.coordinates
+            .iter()
+            .position(|c| *c == format!("ankle_angle_{side}"))
+    };
+    let (ar, al) = (ankle("r")?, ankle("l")?);
+    let (sr, sl) = (strike(1)?, strike(4)?);
+    let mut p = base_panel("Ankle torque from heel strike", NMKG);
+    if let Some(b) = reference_band(
+        reference,
+        "prosthesis",
+        "ankle_torque",
+        1.0,
+        "amputees, affected side (Quesada et al. 2016, mean ± 2 SD)",
+    ) {
+        p = p.band(b);
+    }
+    let affected = CycleTables::column(&rotated(&t.torques, sr), ar, per_kg);
+    let unaffected = CycleTables::column(&rotated(&t.torques, sl), al, per_kg);
+    p = p
+        .line(prediction(&x, affected).label("affected (right, prosthesis)"))
+        .line(
+            Series::new(x.clone(), unaffected, Color::RED)
+                .width(1.8)
+                .label("unaffected (left)"),
+        );
+    Some(NamedFigure {
+        name: "figure_prosthesis",
+        figure: grid(
+            "Passive prosthesis: ankle torques, negative = plantarflexion",
+            vec![p],
+            1,
+            (640, 420),
+        ),
+    })
+}
+
+/// The figures of a predicted gait cycle against `reference`: kinematics (with trunk
+/// sway), kinetics (torques, powers, GRF) and muscle activations.
 pub fn gait_figures(t: &CycleTables, reference: &WalkingReference) -> Vec<NamedFigure> {
     let cell = (300, 220);
+    let mut kinematics = spec_panels(t, reference, &KINEMATICS);
+    kinematics.extend(trunk_panel(t, reference));
     vec![
         NamedFigure {
             name: "figure_kinematics",
             figure: grid(
                 "Joint angles, right leg: prediction vs experiment",
-                spec_panels(t, reference, &KINEMATICS),
+                kinematics,
                 3,
                 cell,
             ),
@@ -550,7 +635,54 @@ mod tests {
                         .collect()
                 })
                 .collect(),
+            trunk_sway: Some(r.quantities["trunk_sway"]["trunk_sway"].mean.clone()),
         }
+    }
+
+    /// Amputee-like cycle: right ankle torque = the amputees' mean (N m kg⁻¹ × body mass)
+    /// from right heel strike at sample 0, the left the same half a cycle later; each foot
+    /// in contact for 60 % of the cycle from its heel strike. Both lines, each drawn from
+    /// its own heel strike, then run through the centre of the amputee band.
+    #[test]
+    fn prosthesis_figure_aligns_each_side_to_its_heel_strike() {
+        let Some(r) = reference() else { return };
+        let q = &r.quantities["prosthesis"]["ankle_torque"];
+        let n = q.mean.len();
+        let mass = 60.0;
+        let coordinates = vec!["ankle_angle_r".to_string(), "ankle_angle_l".to_string()];
+        let t = CycleTables {
+            time: (0..n).map(|i| i as f64 * 0.01).collect(),
+            body_mass: mass,
+            coordinates,
+            torques: (0..n)
+                .map(|i| vec![q.mean[i] * mass, q.mean[(i + n / 2) % n] * mass])
+                .collect(),
+            grf_bw: (0..n)
+                .map(|i| {
+                    let on = |k: usize| if k % n < 3 * n / 5 { 100.0 } else { 0.0 };
+                    vec![0.0, on(i), 0.0, 0.0, on(i + n / 2), 0.0]
+                })
+                .collect(),
+            ..Default::default()
+        };
+        let f = prosthesis_figure(&t, &r).unwrap();
+        f.figure.validate().unwrap();
+        let p = &f.figure.panels[0];
+        assert_eq!((p.series.len(), p.bands.len()), (2, 1));
+        let b = &p.bands[0];
+        for s in &p.series {
+            for i in 0..n {
+                let centre = 0.5 * (b.lower[i] + b.upper[i]);
+                assert!((s.y[i] - centre).abs() < 1e-12, "{:?} sample {i}", s.label);
+            }
+        }
+        render_files(&[f]).unwrap();
+        // No figure without an ankle coordinate.
+        let t = CycleTables {
+            coordinates: vec!["knee_angle_r".into(), "knee_angle_l".into()],
+            ..t
+        };
+        assert!(prosthesis_figure(&t, &r).is_none());
     }
 
     #[test]
@@ -647,6 +779,7 @@ mod tests {
             excitations: Vec::new(),
             grf_labels: Vec::new(),
             grf_bw: vec![vec![0.0; 6]; 3],
+            trunk_sway: None,
         };
         let figs = gait_figures(&t, &r);
         let knee = &figs[0].figure.panels[6];

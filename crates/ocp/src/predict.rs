@@ -432,13 +432,17 @@ fn write_cycle(
         write_atomic(&p, csv(labels, &t.time, rows).as_bytes()).map_err(|e| write_err(&p, e))?;
     }
     // Torso rotation about the forward axis over the cycle (its range is the trunk sway).
-    if let Some(angles) = problem.trunk_frontal_angles(&cycle.q)? {
-        let rows: Vec<Vec<f64>> = angles.iter().map(|a| vec![a.to_degrees()]).collect();
+    if let Some(angles) = &t.trunk_sway {
+        let rows: Vec<Vec<f64>> = angles.iter().map(|&a| vec![a]).collect();
         let p = dir.join("trunk_sway.csv");
         let text = csv(&["trunk_sway".to_string()], &t.time, &rows);
         write_atomic(&p, text.as_bytes()).map_err(|e| write_err(&p, e))?;
     }
-    let figures = figures::gait_figures(&t, &data::walking_reference());
+    let reference = data::walking_reference();
+    let mut figures = figures::gait_figures(&t, &reference);
+    if problem.settings.prosthesis.is_some() {
+        figures.extend(figures::prosthesis_figure(&t, &reference));
+    }
     for (file, bytes) in figures::render_files(&figures).map_err(|e| write_err(dir, e))? {
         let p = dir.join(file);
         write_atomic(&p, &bytes).map_err(|e| write_err(&p, e))?;

@@ -27,6 +27,8 @@ fn shipped_walking_means_cover_every_quantity_over_a_full_cycle() {
         "joint_powers",
         "grf",
         "emg",
+        "trunk_sway",
+        "prosthesis",
     ] {
         let channels = r
             .quantities
