@@ -81,15 +81,22 @@ fn peak(idx: &[usize], f: impl Fn(usize) -> f64) -> Option<f64> {
 }
 
 impl GaitProblem {
+    /// Model speed vector (every model coordinate, locked ones at rest) from a vector in
+    /// problem order [rad s⁻¹ or m s⁻¹].
+    pub fn model_speeds(&self, v: &[f64]) -> Vec<f64> {
+        let mut vm = vec![0.0; self.model.coordinates.len()];
+        for (i, c) in self.gait.coordinates.iter().enumerate() {
+            vm[c.model_index] = v[i];
+        }
+        vm
+    }
+
     /// Model coordinate vector (every model coordinate, locked ones at their value) from a
     /// vector in problem order [rad or m].
     pub fn model_coordinates(&self, q: &[f64]) -> Vec<f64> {
-        let mut qm = vec![0.0; self.model.coordinates.len()];
+        let mut qm = self.model_speeds(q);
         for &(c, val) in &self.gait.locked {
             qm[c] = val;
-        }
-        for (i, c) in self.gait.coordinates.iter().enumerate() {
-            qm[c.model_index] = q[i];
         }
         qm
     }

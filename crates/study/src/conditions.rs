@@ -210,29 +210,6 @@ pub fn conditions_text(t: &ConditionTable) -> Vec<String> {
         .collect()
 }
 
-/// A column of a case's CSV table over the gait cycle: (% cycle, values).
-pub(crate) fn cycle_column(path: &Path, column: &str) -> Option<(Vec<f64>, Vec<f64>)> {
-    let text = std::fs::read_to_string(path).ok()?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next()?.split(',').collect();
-    let c = header.iter().position(|h| *h == column)?;
-    let (mut t, mut y) = (Vec::new(), Vec::new());
-    for l in lines.filter(|l| !l.trim().is_empty()) {
-        let f: Vec<&str> = l.split(',').collect();
-        t.push(f.first()?.parse::<f64>().ok()?);
-        y.push(f.get(c)?.parse::<f64>().ok()?);
-    }
-    let (t0, t1) = (*t.first()?, *t.last()?);
-    if t1 <= t0 {
-        return None;
-    }
-    // The table holds the open cycle (last sample one step before the end): scale time so
-    // that the sample spacing maps to 100 % over the whole cycle.
-    let dt = (t1 - t0) / (t.len() - 1) as f64;
-    let span = t1 - t0 + dt;
-    Some((t.iter().map(|x| 100.0 * (x - t0) / span).collect(), y))
-}
-
 /// Panels of the condition figure: (title, table file, column, unit).
 const FIGURE_PANELS: [(&str, &str, &str, &str); 8] = [
     (
@@ -317,7 +294,7 @@ pub fn conditions_figure(t: &ConditionTable, folder: &Path, title: &str) -> Opti
         };
         let mut any = false;
         for (panel, (_, file, column, _)) in panels.iter_mut().zip(FIGURE_PANELS) {
-            if let Some((x, y)) = cycle_column(&dir.join(file), column) {
+            if let Some((x, y)) = crate::figures::cycle_column(&dir.join(file), column) {
                 let mut s = Series::new(x, y, c).width(w);
                 if dashed {
                     s = s.dash(vec![6.0, 3.0]);

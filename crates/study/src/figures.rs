@@ -1,6 +1,8 @@
 //! Figures of a speed series (paper Fig. 2 style): cost of transport versus speed with the
 //! walking (quadratic) and running (linear) fits, and stride frequency versus speed with
-//! its walking fit and the literature line; written as SVG and PNG.
+//! its walking fit and the literature line, and the vertical GRF per speed; written as SVG
+//! and PNG. Also the helpers every study figure uses: reading a column of a case's cycle
+//! table (`cycle_column`) and writing a figure's files ([`write_figure`]).
 
 use crate::analysis::{literature_stride_frequency, Fit, SpeedSeries};
 use crate::store::{io_err, StoreError};
@@ -16,6 +18,29 @@ fn fit_curve(f: &Fit, lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     let x: Vec<f64> = (0..=40).map(|k| lo + (hi - lo) * k as f64 / 40.0).collect();
     let y = x.iter().map(|&v| f.eval(v)).collect();
     (x, y)
+}
+
+/// A column of a case's CSV table over the gait cycle: (% cycle, values).
+pub(crate) fn cycle_column(path: &Path, column: &str) -> Option<(Vec<f64>, Vec<f64>)> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next()?.split(',').collect();
+    let c = header.iter().position(|h| *h == column)?;
+    let (mut t, mut y) = (Vec::new(), Vec::new());
+    for l in lines.filter(|l| !l.trim().is_empty()) {
+        let f: Vec<&str> = l.split(',').collect();
+        t.push(f.first()?.parse::<f64>().ok()?);
+        y.push(f.get(c)?.parse::<f64>().ok()?);
+    }
+    let (t0, t1) = (*t.first()?, *t.last()?);
+    if t1 <= t0 {
+        return None;
+    }
+    // The table holds the open cycle (last sample one step before the end): scale time so
+    // that the sample spacing maps to 100 % over the whole cycle.
+    let dt = (t1 - t0) / (t.len() - 1) as f64;
+    let span = t1 - t0 + dt;
+    Some((t.iter().map(|x| 100.0 * (x - t0) / span).collect(), y))
 }
 
 /// Colour of a speed on a blue (slowest) to red (fastest) scale.
@@ -41,7 +66,7 @@ fn vertical_grf_panel(s: &SpeedSeries, folder: &Path) -> Option<Panel> {
     let mut any = false;
     for p in &s.points {
         let file = folder.join("cases").join(&p.case).join("grf.csv");
-        if let Some((x, y)) = crate::conditions::cycle_column(&file, "right_y_pct_bw") {
+        if let Some((x, y)) = cycle_column(&file, "right_y_pct_bw") {
             panel = panel.line(Series::new(x, y, speed_colour(p.speed, lo, hi)).width(1.5));
             any = true;
         }

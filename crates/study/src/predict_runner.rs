@@ -53,6 +53,13 @@ fn err(e: impl std::fmt::Display) -> String {
     e.to_string()
 }
 
+/// The `solution.json` of a finished case folder.
+fn read_solution(dir: &Path) -> Result<SolutionFile, String> {
+    let p = dir.join(SOLUTION_FILE);
+    let text = std::fs::read_to_string(&p).map_err(|e| format!("reading {}: {e}", p.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
+}
+
 impl PredictRunner {
     /// Initial NLP vector of a continuation guess from the source case folder.
     fn continuation_guess(
@@ -61,11 +68,7 @@ impl PredictRunner {
         kind: ContinuationKind,
         source: &Path,
     ) -> Result<Vec<f64>, String> {
-        let p = source.join(SOLUTION_FILE);
-        let text =
-            std::fs::read_to_string(&p).map_err(|e| format!("reading {}: {e}", p.display()))?;
-        let sol: SolutionFile =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
+        let sol = read_solution(source)?;
         match kind {
             ContinuationKind::FullSolution => {
                 let src = GaitProblem::new(
@@ -119,17 +122,9 @@ fn com_energy_correlation(
 ) -> Result<f64, String> {
     let model = &problem.model;
     let mut data = stride_multibody::Data::<f64>::new(model).map_err(err)?;
-    let nc = model.coordinates.len();
-    let (mut qm, mut vm) = (vec![0.0; nc], vec![0.0; nc]);
-    for &(c, val) in &problem.gait.locked {
-        qm[c] = val;
-    }
     let (mut y, mut vx) = (Vec::with_capacity(q.len()), Vec::with_capacity(q.len()));
     for (qs, vs) in q.iter().zip(v) {
-        for (i, c) in problem.gait.coordinates.iter().enumerate() {
-            qm[c.model_index] = qs[i];
-            vm[c.model_index] = vs[i];
-        }
+        let (qm, vm) = (problem.model_coordinates(qs), problem.model_speeds(vs));
         stride_multibody::forward_kinematics(model, &mut data, &qm, &vm).map_err(err)?;
         let (p, vel) = stride_multibody::center_of_mass(model, &data);
         y.push(p[1]);
@@ -232,16 +227,13 @@ impl CaseRunner for PredictRunner {
 /// `solution.json`, so that a report uses the current definitions for cases solved by an
 /// earlier version.
 pub fn measures_from_solution(model: &Model, dir: &Path) -> Result<ConditionMeasures, String> {
-    let p = dir.join(SOLUTION_FILE);
-    let text = std::fs::read_to_string(&p).map_err(|e| format!("reading {}: {e}", p.display()))?;
-    let sol: SolutionFile =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
+    let sol = read_solution(dir)?;
     let problem = GaitProblem::new(model, &sol.settings, &predict::bounds_data(&sol.settings))
         .map_err(err)?;
     if sol.x.len() != problem.layout.len() {
         return Err(format!(
             "{}: {} variables, the problem of its settings has {}",
-            p.display(),
+            dir.join(SOLUTION_FILE).display(),
             sol.x.len(),
             problem.layout.len()
         ));

@@ -50,14 +50,7 @@ pub fn ripopt_options(o: &SolverOptions) -> Result<ripopt::SolverOptions, SolveE
             reason: format!("must be > 0, got {}", o.tol),
         });
     }
-    if o.exact_hessian_tail {
-        return Err(SolveError::InvalidOption {
-            name: "exact_hessian_tail",
-            reason: "ripopt cannot switch from the limited-memory to the exact Hessian during a \
-                     solve (a stride-ipm feature); choose the exact or the limited-memory Hessian"
-                .into(),
-        });
-    }
+    super::setup::reject_exact_tail(o, "ripopt")?;
     let mut r = ripopt::SolverOptions {
         tol: o.tol,
         max_iter: o.max_iter,

@@ -2,7 +2,7 @@
 //! functions at the initial point, turned into [`SolveError`]s that say what is wrong.
 
 use crate::nlp::{validate_bounds, validate_structures, Bounds, Nlp, Structures};
-use crate::solver::SolveError;
+use crate::solver::{SolveError, SolverOptions};
 
 /// A validated problem: bounds, derivative patterns and the initial point.
 #[derive(Debug, Clone)]
@@ -32,4 +32,19 @@ pub fn prepare(nlp: &dyn Nlp) -> Result<Prepared, SolveError> {
         structures,
         x0,
     })
+}
+
+/// Rejects `SolverOptions::exact_hessian_tail` for a backend (`name`) that cannot switch
+/// from the limited-memory to the exact Hessian during a solve (a stride-ipm feature).
+pub fn reject_exact_tail(o: &SolverOptions, name: &str) -> Result<(), SolveError> {
+    if o.exact_hessian_tail {
+        return Err(SolveError::InvalidOption {
+            name: "exact_hessian_tail",
+            reason: format!(
+                "{name} cannot switch from the limited-memory to the exact Hessian during a \
+                 solve (a stride-ipm feature); choose the exact or the limited-memory Hessian"
+            ),
+        });
+    }
+    Ok(())
 }

@@ -62,14 +62,7 @@ pub fn ipopt_options(
     linear_solver: &str,
 ) -> Result<Vec<(&'static str, OptionValue)>, SolveError> {
     use OptionValue::{Int, Num, Str};
-    if o.exact_hessian_tail {
-        return Err(SolveError::InvalidOption {
-            name: "exact_hessian_tail",
-            reason: "IPOPT cannot switch from the limited-memory to the exact Hessian during a \
-                     solve (a stride-ipm feature); choose the exact or the limited-memory Hessian"
-                .into(),
-        });
-    }
+    super::setup::reject_exact_tail(o, "IPOPT")?;
     let int = |name: &'static str, v: usize| {
         i32::try_from(v).map_err(|_| SolveError::InvalidOption {
             name,
