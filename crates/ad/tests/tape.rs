@@ -377,6 +377,51 @@ fn bad_input_gives_clear_errors() {
 }
 
 #[test]
+fn repeated_subexpressions_are_recorded_once() {
+    // y0 = sin(a b) + sin(b a), y1 = 3 (a b)² written with fresh products each time.
+    let f = |x: &[Var]| {
+        let (a, b) = (x[0], x[1]);
+        vec![(a * b).sin() + (b * a).sin(), (a * b) * (b * a) * 3.0]
+    };
+    let tape = Tape::record(&[0.3, 0.7], f).unwrap();
+    // a·b, sin, add, square product, ×3: five operations instead of nine.
+    assert_eq!(tape.stats().n_ops, 5, "{:?}", tape.ops());
+    let (a, b) = (1.1, -0.4);
+    let mut ws = tape.workspace();
+    let (mut y, mut jac) = ([0.0; 2], vec![0.0; tape.jacobian_pattern().nnz()]);
+    tape.jacobian(&[a, b], &mut ws, &mut y, &mut jac).unwrap();
+    let p: f64 = a * b;
+    assert!(close(y[0], 2.0 * p.sin(), 1e-15) && close(y[1], 3.0 * p * p, 1e-15));
+    let expect = |r: usize, c: usize| {
+        let dp = if c == 0 { b } else { a };
+        if r == 0 {
+            2.0 * p.cos() * dp
+        } else {
+            6.0 * p * dp
+        }
+    };
+    let pat = tape.jacobian_pattern();
+    for (e, (r, c)) in pat.iter().enumerate() {
+        assert!(close(jac[e], expect(r, c), 1e-14), "J[{r}][{c}]");
+    }
+    // Hessian of λ0 y0 + λ1 y1 against the analytic second derivatives.
+    let lambda = [0.7, -1.3];
+    let mut hes = vec![0.0; tape.hessian_pattern().nnz()];
+    tape.hessian(&[a, b], &lambda, &mut ws, &mut y, &mut hes)
+        .unwrap();
+    let d = [b, a];
+    for (e, (i, j)) in tape.hessian_pattern().iter().enumerate() {
+        let cross = if i != j { 1.0 } else { 0.0 };
+        let h0 = 2.0 * (-p.sin() * d[i] * d[j] + p.cos() * cross);
+        let h1 = 6.0 * (d[i] * d[j] + p * cross);
+        assert!(
+            close(hes[e], lambda[0] * h0 + lambda[1] * h1, 1e-13),
+            "H[{i}][{j}]"
+        );
+    }
+}
+
+#[test]
 fn degenerate_tapes_work() {
     let empty = Tape::record(&[], |_| vec![]).unwrap();
     let mut ws = empty.workspace();

@@ -71,6 +71,8 @@ pub struct DerivativeBench {
     pub reps: usize,
     /// Time to build the problem and record the node tape.
     pub setup: Duration,
+    /// Size of the recorded node function (operations, sparse-sweep entries).
+    pub tape: stride_ad::TapeStats,
     /// Timings, one entry per thread count.
     pub times: Vec<DerivativeTimes>,
 }
@@ -117,6 +119,7 @@ pub fn derivatives(
         hessian_nnz: nlp.hessian_structure().nnz(),
         reps,
         setup,
+        tape: nlp.node().tape().stats(),
         times,
     })
 }
@@ -186,7 +189,9 @@ pub fn derivatives_table(b: &DerivativeBench) -> String {
         "## Derivatives of the gait NLP ({} mesh intervals, {} collocation points; \
          data-informed walking guess; median of {} calls)\n\n\
          n = {}, m = {}, Jacobian nnz = {}, Hessian nnz (lower triangle) = {}; \
-         problem and tape built in {:.2} s\n\n| evaluation |",
+         problem and tape built in {:.2} s\n\n\
+         node tape: {} operations, {} forward-gradient entries, {} second-order entries\n\n\
+         | evaluation |",
         b.mesh_intervals,
         b.nodes,
         b.reps,
@@ -194,7 +199,10 @@ pub fn derivatives_table(b: &DerivativeBench) -> String {
         b.m,
         b.jacobian_nnz,
         b.hessian_nnz,
-        b.setup.as_secs_f64()
+        b.setup.as_secs_f64(),
+        b.tape.n_ops,
+        b.tape.grad_entries,
+        b.tape.adot_entries
     );
     for t in &b.times {
         let unit = if t.threads == 1 { "thread" } else { "threads" };

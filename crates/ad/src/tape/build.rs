@@ -7,23 +7,81 @@ use super::var::Recorder;
 use super::{HesChunk, JacChunk, Tape, LANES};
 use crate::sparsity::{bits, greedy_colouring, BitSets, Pattern};
 
-/// Dead-code elimination: keeps the inputs and every node an output depends on.
-/// Returns the kept operations (remapped) and the new index of each output.
+/// Identity of an operation for common-subexpression elimination: kind, operands (sorted
+/// for the commutative `+` and `*`) and the bits of its constant. `None` for inputs.
+fn cse_key(op: &Op) -> Option<(u8, u32, u32, u32, u64)> {
+    let sorted = |a: u32, b: u32| if a <= b { (a, b) } else { (b, a) };
+    Some(match *op {
+        Op::Input(_) => return None,
+        Op::Const(c) => (0, 0, 0, 0, c.to_bits()),
+        Op::Add(a, b) => {
+            let (a, b) = sorted(a, b);
+            (1, a, b, 0, 0)
+        }
+        Op::Sub(a, b) => (2, a, b, 0, 0),
+        Op::Mul(a, b) => {
+            let (a, b) = sorted(a, b);
+            (3, a, b, 0, 0)
+        }
+        Op::Div(a, b) => (4, a, b, 0, 0),
+        Op::Neg(a) => (5, a, 0, 0, 0),
+        Op::AddC(a, c) => (6, a, 0, 0, c.to_bits()),
+        Op::MulC(a, c) => (7, a, 0, 0, c.to_bits()),
+        Op::DivC(a, c) => (8, a, 0, 0, c.to_bits()),
+        Op::CDiv(c, a) => (9, a, 0, 0, c.to_bits()),
+        Op::Unary(a, e) => (10, a, e as u32, 0, 0),
+        Op::Powf(a, p) => (11, a, 0, 0, p.to_bits()),
+        Op::Powi(a, n) => (12, a, 0, 0, n as u32 as u64),
+        Op::Apply(a, f) => (13, a, f, 0, 0),
+        // Not reordered: which operand wins a tie decides the derivative.
+        Op::Min(a, b) => (14, a, b, 0, 0),
+        Op::Max(a, b) => (15, a, b, 0, 0),
+        Op::Select(c, p, n) => (16, c, p, n, 0),
+    })
+}
+
+/// Common-subexpression elimination: the operations with every operand replaced by the
+/// first recorded node that computes the same operation of the same operands, and that
+/// representative for every node (an operation repeated in the model code, such as a
+/// monomial shared by a muscle's length and moment-arm polynomials, is then evaluated
+/// and differentiated once).
+fn merge_common(rec: &Recorder) -> (Vec<Op>, Vec<u32>) {
+    let n = rec.ops.len();
+    let mut canon: Vec<u32> = Vec::with_capacity(n);
+    let mut ops = Vec::with_capacity(n);
+    let mut seen = std::collections::HashMap::with_capacity(n);
+    for (k, (op, _)) in rec.ops.iter().enumerate() {
+        let op = op.remap(&canon);
+        let rep = match cse_key(&op) {
+            Some(key) => *seen.entry(key).or_insert(k as u32),
+            None => k as u32,
+        };
+        canon.push(rep);
+        ops.push(op);
+    }
+    (ops, canon)
+}
+
+/// Common-subexpression and dead-code elimination: keeps the inputs and every distinct
+/// node an output depends on. Returns the kept operations (remapped), their values at the
+/// recording point, and the new index of each output.
 pub(super) fn compact(
     n_in: usize,
     rec: &Recorder,
     outputs: &[u32],
 ) -> (Vec<Op>, Vec<f64>, Vec<u32>) {
     let n = rec.ops.len();
+    let (merged, canon) = merge_common(rec);
+    let outputs: Vec<u32> = outputs.iter().map(|&o| canon[o as usize]).collect();
     let mut live = vec![false; n];
     live[..n_in].iter_mut().for_each(|l| *l = true);
-    for &o in outputs {
+    for &o in &outputs {
         live[o as usize] = true;
     }
     let mut args = Vec::with_capacity(3);
     for k in (n_in..n).rev() {
         if live[k] {
-            rec.ops[k].0.value_args(&mut args);
+            merged[k].value_args(&mut args);
             for &a in &args {
                 live[a as usize] = true;
             }
@@ -38,7 +96,7 @@ pub(super) fn compact(
             map[k] = next;
             next += 1;
             if k >= n_in {
-                ops.push(rec.ops[k].0.remap(&map));
+                ops.push(merged[k].remap(&map));
             }
             vals.push(rec.ops[k].1);
         }
