@@ -37,6 +37,27 @@ struct OpMaps {
     pb_rb: Map,
 }
 
+/// One active operation of the forward gradient sweep, with every offset it needs laid
+/// out together so that the sweep reads its instructions sequentially.
+#[derive(Clone, Copy, Debug, Default)]
+struct FwdStep {
+    /// Operation index (row of the local partials).
+    t: u32,
+    /// Start and length of `P(k)` in the gradient store.
+    k: u32,
+    k_len: u32,
+    /// Start and length of `P(a)`, `P(b)` (length 0: operand without derivative).
+    a: u32,
+    a_len: u32,
+    b: u32,
+    b_len: u32,
+    /// `P(a) → P(k)`, `P(b) → P(k)`.
+    fa: Map,
+    fb: Map,
+    /// Both operands are the same node (`x * x`): one scatter with the summed partials.
+    same: bool,
+}
+
 /// The static index sets and maps of the sparse sweeps of one tape.
 #[derive(Clone, Debug, Default)]
 pub(super) struct SparsePlan {
@@ -45,10 +66,8 @@ pub(super) struct SparsePlan {
     roff: Vec<u32>,
     ridx: Vec<u32>,
     maps: Vec<OpMaps>,
-    /// `(fa, fb)` of every op, kept apart for a compact forward sweep.
-    fmaps: Vec<[Map; 2]>,
-    /// Active operations (index into `ops`), ascending.
-    active_ops: Vec<u32>,
+    /// The forward gradient sweep, active operations in ascending order.
+    fwd: Vec<FwdStep>,
     store: Vec<u32>,
     /// `(position in ȧ store, Hessian entry)` for the lower triangle, in pattern order.
     hes_extract: Vec<u32>,
@@ -176,10 +195,33 @@ impl SparsePlan {
                 }
             }
         }
-        let fmaps = maps.iter().map(|m| [m.fa, m.fb]).collect();
-        let active_ops = (0..ops.len())
+        let span = |k: u32| {
+            if k == sink {
+                (0, 0)
+            } else {
+                (poff[k as usize], poff[k as usize + 1] - poff[k as usize])
+            }
+        };
+        let fwd = (0..ops.len())
             .filter(|&t| active[n_in + t])
-            .map(|t| t as u32)
+            .map(|t| {
+                let [a, b] = args[t];
+                let (k, k_len) = span((n_in + t) as u32);
+                let (a0, a_len) = span(a);
+                let (b0, b_len) = if b == a { (0, 0) } else { span(b) };
+                FwdStep {
+                    t: t as u32,
+                    k,
+                    k_len,
+                    a: a0,
+                    a_len,
+                    b: b0,
+                    b_len,
+                    fa: maps[t].fa,
+                    fb: maps[t].fb,
+                    same: a == b,
+                }
+            })
             .collect();
         (
             SparsePlan {
@@ -188,8 +230,7 @@ impl SparsePlan {
                 roff,
                 ridx,
                 maps,
-                fmaps,
-                active_ops,
+                fwd,
                 store,
                 hes_extract,
                 curv,
@@ -235,8 +276,11 @@ fn axpy(dst: &mut [f64], src: &[f64], c: f64, m: Map, store: &[u32]) {
         }
     } else {
         let pos = &store[m.off as usize..m.off as usize + src.len()];
+        debug_assert!(pos.iter().all(|&p| (p as usize) < dst.len()));
         for (&p, s) in pos.iter().zip(src) {
-            dst[p as usize] += c * s;
+            // SAFETY: every stored position was found inside the destination set when the
+            // plan was built (`map_of`), and `dst` is that set's slice of the store.
+            unsafe { *dst.get_unchecked_mut(p as usize) += c * s };
         }
     }
 }
@@ -245,43 +289,34 @@ impl super::Tape {
     /// Forward sparse gradients of every node into `ws.grad` (needs `forward::<1>`).
     pub(super) fn sparse_forward(&self, ws: &mut Workspace) {
         let sp = &self.sparse;
-        let n_in = self.n_in;
-        let sink = self.n_nodes as u32;
         let g = &mut ws.grad;
-        for i in 0..n_in {
+        for i in 0..self.n_in {
             let r = range(&sp.poff, i);
             if !r.is_empty() {
                 g[r.start] = 1.0;
             }
         }
-        for &t in &sp.active_ops {
-            let t = t as usize;
-            let k = n_in + t;
-            let [a, b] = self.args[t];
-            let [pa, pb] = ws.part[t];
-            let [fa, fb] = sp.fmaps[t];
-            let rk = range(&sp.poff, k);
-            let (lo, hi) = g.split_at_mut(rk.start);
-            let gk = &mut hi[..rk.len()];
-            let (ca, use_b) = if a == b {
-                (pa + pb, false)
-            } else {
-                (pa, b != sink)
-            };
-            if a != sink && fa.ident {
+        for s in &sp.fwd {
+            let [pa, pb] = ws.part[s.t as usize];
+            // Operands precede the result in the store: split there.
+            let (lo, hi) = g.split_at_mut(s.k as usize);
+            let gk = &mut hi[..s.k_len as usize];
+            let ca = if s.same { pa + pb } else { pa };
+            let ga = &lo[s.a as usize..(s.a + s.a_len) as usize];
+            if s.a_len > 0 && s.fa.ident {
                 // Same index set as the result: write, no zeroing needed.
-                let ga = &lo[range(&sp.poff, a as usize)];
-                for (d, s) in gk.iter_mut().zip(ga) {
-                    *d = ca * s;
+                for (d, x) in gk.iter_mut().zip(ga) {
+                    *d = ca * x;
                 }
             } else {
                 gk.iter_mut().for_each(|x| *x = 0.0);
-                if a != sink {
-                    axpy(gk, &lo[range(&sp.poff, a as usize)], ca, fa, &sp.store);
+                if s.a_len > 0 {
+                    axpy(gk, ga, ca, s.fa, &sp.store);
                 }
             }
-            if use_b {
-                axpy(gk, &lo[range(&sp.poff, b as usize)], pb, fb, &sp.store);
+            if s.b_len > 0 {
+                let gb = &lo[s.b as usize..(s.b + s.b_len) as usize];
+                axpy(gk, gb, pb, s.fb, &sp.store);
             }
         }
     }
