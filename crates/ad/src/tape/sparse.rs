@@ -58,6 +58,40 @@ struct FwdStep {
     same: bool,
 }
 
+/// A slice `[start, start + len)` of one of the stores.
+#[derive(Clone, Copy, Debug, Default)]
+struct Span {
+    start: u32,
+    len: u32,
+}
+
+impl Span {
+    #[inline]
+    fn range(self) -> std::ops::Range<usize> {
+        self.start as usize..(self.start + self.len) as usize
+    }
+}
+
+/// One active operation of the second-order adjoint sweep (reverse order), with the spans
+/// of its index sets and its maps together.
+#[derive(Clone, Copy, Debug, Default)]
+struct RevStep {
+    /// Operation index (row of the local partials) and node index.
+    t: u32,
+    k: u32,
+    /// `R(k)`, `R(a)`, `R(b)` in the adjoint store (length 0: no such operand).
+    rk: Span,
+    ra: Span,
+    rb: Span,
+    /// `P(a)`, `P(b)` in the gradient store.
+    pa: Span,
+    pb: Span,
+    maps: OpMaps,
+    curv: Curvature,
+    /// Both operands are the same node.
+    same: bool,
+}
+
 /// The static index sets and maps of the sparse sweeps of one tape.
 #[derive(Clone, Debug, Default)]
 pub(super) struct SparsePlan {
@@ -65,13 +99,13 @@ pub(super) struct SparsePlan {
     pidx: Vec<u32>,
     roff: Vec<u32>,
     ridx: Vec<u32>,
-    maps: Vec<OpMaps>,
+    /// The second-order adjoint sweep, active operations in descending order.
+    rev: Vec<RevStep>,
     /// The forward gradient sweep, active operations in ascending order.
     fwd: Vec<FwdStep>,
     store: Vec<u32>,
     /// `(position in ȧ store, Hessian entry)` for the lower triangle, in pattern order.
     hes_extract: Vec<u32>,
-    curv: Vec<Curvature>,
 }
 
 fn flat(sets: &BitSets, n: usize) -> (Vec<u32>, Vec<u32>) {
@@ -202,6 +236,40 @@ impl SparsePlan {
                 (poff[k as usize], poff[k as usize + 1] - poff[k as usize])
             }
         };
+        let rspan = |k: u32| {
+            if k == sink {
+                Span::default()
+            } else {
+                Span {
+                    start: roff[k as usize],
+                    len: roff[k as usize + 1] - roff[k as usize],
+                }
+            }
+        };
+        let pspan = |k: u32| {
+            let (start, len) = span(k);
+            Span { start, len }
+        };
+        let rev = (0..ops.len())
+            .rev()
+            .filter(|&t| active[n_in + t])
+            .map(|t| {
+                let [a, b] = args[t];
+                let k = (n_in + t) as u32;
+                RevStep {
+                    t: t as u32,
+                    k,
+                    rk: rspan(k),
+                    ra: rspan(a),
+                    rb: if b == a { Span::default() } else { rspan(b) },
+                    pa: pspan(a),
+                    pb: pspan(b),
+                    maps: maps[t],
+                    curv: curv[t],
+                    same: a == b,
+                }
+            })
+            .collect();
         let fwd = (0..ops.len())
             .filter(|&t| active[n_in + t])
             .map(|t| {
@@ -229,11 +297,10 @@ impl SparsePlan {
                 pidx,
                 roff,
                 ridx,
-                maps,
+                rev,
                 fwd,
                 store,
                 hes_extract,
-                curv,
             },
             pattern,
         )
@@ -337,56 +404,41 @@ impl super::Tape {
     /// `sparse_forward` and `adjoint_sweep`).
     pub(super) fn sparse_hessian(&self, ws: &mut Workspace, hes: &mut [f64]) {
         let sp = &self.sparse;
-        let n_in = self.n_in;
-        let sink = self.n_nodes as u32;
         let (g, d) = (&ws.grad, &mut ws.adot);
-        for t in (0..self.ops.len()).rev() {
-            let k = n_in + t;
-            if !self.active[k] {
-                continue;
-            }
-            let [a, b] = self.args[t];
+        for s in &sp.rev {
+            let t = s.t as usize;
             let [pa, pb] = ws.part[t];
             let [saa, sab, sbb] = ws.sec[t];
-            let ak = ws.abar[k];
-            let m = sp.maps[t];
-            let rk = range(&sp.roff, k);
-            let (lo, hi) = d.split_at_mut(rk.start);
-            let dk = &mut hi[..rk.len()];
-            let curv = sp.curv[t];
-            if a == b {
-                let ga = &g[range(&sp.poff, a as usize)];
-                let da = &mut lo[range(&sp.roff, a as usize)];
+            let ak = ws.abar[s.k as usize];
+            let m = &s.maps;
+            // Operands precede the result: their adjoint sets lie before R(k).
+            let (lo, hi) = d.split_at_mut(s.rk.start as usize);
+            let dk = &mut hi[..s.rk.len as usize];
+            let nonlinear = s.curv != Curvature::Linear;
+            let ga = &g[s.pa.range()];
+            let gb = &g[s.pb.range()];
+            if s.same {
+                let da = &mut lo[s.ra.range()];
                 axpy(da, dk, pa + pb, m.ra, &sp.store);
-                if curv != Curvature::Linear {
+                if nonlinear {
                     axpy(da, ga, ak * (saa + 2.0 * sab + sbb), m.pa_ra, &sp.store);
                 }
             } else {
-                let ga = if a != sink {
-                    &g[range(&sp.poff, a as usize)]
-                } else {
-                    &[][..]
-                };
-                let gb = if b != sink {
-                    &g[range(&sp.poff, b as usize)]
-                } else {
-                    &[][..]
-                };
-                if a != sink {
-                    let da = &mut lo[range(&sp.roff, a as usize)];
+                if s.ra.len > 0 {
+                    let da = &mut lo[s.ra.range()];
                     axpy(da, dk, pa, m.ra, &sp.store);
-                    if curv != Curvature::Linear && !gb.is_empty() {
+                    if nonlinear && !gb.is_empty() {
                         axpy(da, gb, ak * sab, m.pb_ra, &sp.store);
                     }
                 }
-                if b != sink {
-                    let db = &mut lo[range(&sp.roff, b as usize)];
+                if s.rb.len > 0 {
+                    let db = &mut lo[s.rb.range()];
                     axpy(db, dk, pb, m.rb, &sp.store);
-                    if curv != Curvature::Linear {
+                    if nonlinear {
                         if !ga.is_empty() {
                             axpy(db, ga, ak * sab, m.pa_rb, &sp.store);
                         }
-                        if curv == Curvature::Quotient && !gb.is_empty() {
+                        if s.curv == Curvature::Quotient && !gb.is_empty() {
                             axpy(db, gb, ak * sbb, m.pb_rb, &sp.store);
                         }
                     }
@@ -397,7 +449,7 @@ impl super::Tape {
         for (h, &pos) in hes.iter_mut().zip(&sp.hes_extract) {
             *h = d[pos as usize];
         }
-        d[..sp.roff[n_in] as usize]
+        d[..sp.roff[self.n_in] as usize]
             .iter_mut()
             .for_each(|x| *x = 0.0);
     }
