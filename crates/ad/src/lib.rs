@@ -20,4 +20,4 @@ pub use dualvec::DualVec;
 pub use error::AdError;
 pub use scalar::{smooth_step, Scalar, UnaryFn};
 pub use sparsity::Pattern;
-pub use tape::{Tape, TapeStats, Var, Workspace, LANES};
+pub use tape::{BatchWorkspace, Tape, TapeStats, Var, Workspace, BATCH, LANES};

@@ -4,7 +4,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use std::sync::Arc;
-use stride_ad::{AdError, Dual, HyperDual, Scalar, Tape, UnaryFn, Var};
+use stride_ad::{AdError, Dual, HyperDual, Scalar, Tape, UnaryFn, Var, BATCH};
 
 /// `x ↦ x sin x` with analytic derivatives, registered as a tabulated-curve stand-in.
 #[derive(Debug)]
@@ -418,6 +418,58 @@ fn repeated_subexpressions_are_recorded_once() {
             close(hes[e], lambda[0] * h0 + lambda[1] * h1, 1e-13),
             "H[{i}][{j}]"
         );
+    }
+}
+
+#[test]
+fn batches_give_each_point_the_single_point_numbers() {
+    let mut rng = Rng(11);
+    for c in cases() {
+        let tape = Tape::record(&rng.point(c.n, c.lo, c.hi), c.var).unwrap();
+        let (n, m) = (c.n, tape.n_outputs());
+        let (nj, nh) = (tape.jacobian_pattern().nnz(), tape.hessian_pattern().nnz());
+        let mut ws = tape.workspace();
+        let mut bw = tape.batch_workspace();
+        for points in [1, BATCH - 1, BATCH] {
+            let xs = rng.point(points * n, c.lo, c.hi);
+            let lambdas = rng.point(points * m, -2.0, 2.0);
+            let (mut ys, mut jacs) = (vec![0.0; points * m], vec![0.0; points * nj]);
+            tape.jacobian_batch(&xs, &mut bw, &mut ys, &mut jacs)
+                .unwrap();
+            let mut hes = vec![0.0; points * nh];
+            let mut ys2 = vec![0.0; points * m];
+            tape.hessian_batch(&xs, &lambdas, &mut bw, &mut ys2, &mut hes)
+                .unwrap();
+            for p in 0..points {
+                let x = &xs[p * n..(p + 1) * n];
+                let (mut y, mut jac, mut h) = (vec![0.0; m], vec![0.0; nj], vec![0.0; nh]);
+                tape.jacobian(x, &mut ws, &mut y, &mut jac).unwrap();
+                assert_eq!(&ys[p * m..(p + 1) * m], &y[..], "{} y, point {p}", c.name);
+                assert_eq!(
+                    &jacs[p * nj..(p + 1) * nj],
+                    &jac[..],
+                    "{} J, point {p}",
+                    c.name
+                );
+                tape.hessian(x, &lambdas[p * m..(p + 1) * m], &mut ws, &mut y, &mut h)
+                    .unwrap();
+                assert_eq!(&ys2[p * m..(p + 1) * m], &y[..], "{} y, point {p}", c.name);
+                assert_eq!(
+                    &hes[p * nh..(p + 1) * nh],
+                    &h[..],
+                    "{} H, point {p}",
+                    c.name
+                );
+            }
+        }
+        // A batch of more than BATCH points, or a partial point, is a length error.
+        let mut big = vec![0.0; (BATCH + 1) * m];
+        let mut jbig = vec![0.0; (BATCH + 1) * nj];
+        let xs = vec![0.5; (BATCH + 1) * n];
+        let err = tape.jacobian_batch(&xs, &mut bw, &mut big, &mut jbig);
+        assert!(matches!(err, Err(AdError::Length { .. })), "{}", c.name);
+        let err = tape.jacobian_batch(&xs[..n + 1], &mut bw, &mut big, &mut jbig);
+        assert!(matches!(err, Err(AdError::Length { .. })), "{}", c.name);
     }
 }
 

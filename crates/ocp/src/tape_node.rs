@@ -5,13 +5,14 @@ use crate::node::NodeModel;
 use crate::problem::ProblemError;
 use crate::transcription::NodeFunction;
 use std::sync::Mutex;
-use stride_ad::{Scalar, Tape, Var, Workspace};
+use stride_ad::{BatchWorkspace, Scalar, Tape, Var, Workspace, BATCH};
 
 /// A [`NodeModel`] recorded on a tape.
 pub struct TapeNode {
     tape: Tape,
     bounds: Vec<(f64, f64)>,
     pool: Mutex<Vec<(Workspace, Vec<f64>)>>,
+    batch_pool: Mutex<Vec<(BatchWorkspace, Vec<f64>)>>,
 }
 
 impl TapeNode {
@@ -30,6 +31,7 @@ impl TapeNode {
             tape,
             bounds: node.constraint_bounds(),
             pool: Mutex::new(Vec::new()),
+            batch_pool: Mutex::new(Vec::new()),
         })
     }
 
@@ -58,19 +60,41 @@ impl TapeNode {
     /// Run `f` with a workspace and an output buffer taken from the pool (allocated only
     /// the first time a thread needs one).
     fn with_ws<R>(&self, f: impl FnOnce(&mut Workspace, &mut Vec<f64>) -> R) -> R {
-        let mut entry = self
-            .pool
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .pop()
-            .unwrap_or_else(|| (self.tape.workspace(), vec![0.0; self.tape.n_outputs()]));
-        let r = f(&mut entry.0, &mut entry.1);
-        self.pool
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .push(entry);
-        r
+        with_pooled(
+            &self.pool,
+            || (self.tape.workspace(), vec![0.0; self.tape.n_outputs()]),
+            f,
+        )
     }
+
+    /// Run `f` with a batch workspace and a batch output buffer from the pool.
+    fn with_batch_ws<R>(&self, f: impl FnOnce(&mut BatchWorkspace, &mut Vec<f64>) -> R) -> R {
+        with_pooled(
+            &self.batch_pool,
+            || {
+                let m = self.tape.n_outputs() * BATCH;
+                (self.tape.batch_workspace(), vec![0.0; m])
+            },
+            f,
+        )
+    }
+}
+
+/// Runs `f` on an entry taken from `pool` (made by `make` when the pool is empty) and
+/// returns the entry to the pool.
+fn with_pooled<W, R>(
+    pool: &Mutex<Vec<(W, Vec<f64>)>>,
+    make: impl FnOnce() -> (W, Vec<f64>),
+    f: impl FnOnce(&mut W, &mut Vec<f64>) -> R,
+) -> R {
+    let mut entry = pool
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .pop()
+        .unwrap_or_else(make);
+    let r = f(&mut entry.0, &mut entry.1);
+    pool.lock().unwrap_or_else(|e| e.into_inner()).push(entry);
+    r
 }
 
 impl NodeFunction for TapeNode {
@@ -100,5 +124,21 @@ impl NodeFunction for TapeNode {
     fn hessian(&self, x: &[f64], w: &[f64], hess: &mut [f64]) {
         self.with_ws(|ws, y| self.tape.hessian(x, w, ws, y, hess))
             .expect("tape sizes fixed at recording");
+    }
+    fn batch(&self) -> usize {
+        BATCH
+    }
+    fn jacobian_batch(&self, xs: &[f64], ys: &mut [f64], jacs: &mut [f64]) {
+        self.with_batch_ws(|bw, _| self.tape.jacobian_batch(xs, bw, ys, jacs))
+            .expect("tape sizes fixed at recording");
+    }
+    fn hessian_batch(&self, xs: &[f64], ws: &[f64], hess: &mut [f64]) {
+        let m = self.tape.n_outputs();
+        self.with_batch_ws(|bw, y| {
+            let points = xs.len() / self.tape.n_inputs().max(1);
+            self.tape
+                .hessian_batch(xs, ws, bw, &mut y[..points * m], hess)
+        })
+        .expect("tape sizes fixed at recording");
     }
 }

@@ -39,6 +39,38 @@ pub trait NodeFunction: Sync {
     fn jacobian(&self, x: &[f64], y: &mut [f64], jac: &mut [f64]);
     /// Hessian values of Σ w_i y_i in pattern order.
     fn hessian(&self, x: &[f64], w: &[f64], hess: &mut [f64]);
+    /// Most points the batch methods evaluate together (1: no batch form).
+    fn batch(&self) -> usize {
+        1
+    }
+    /// [`NodeFunction::jacobian`] at 1 to [`NodeFunction::batch`] points: `xs`, `ys` and
+    /// `jacs` hold one block per point, one after the other.
+    fn jacobian_batch(&self, xs: &[f64], ys: &mut [f64], jacs: &mut [f64]) {
+        let points = xs.len() / self.n_inputs().max(1);
+        let (nin, nout) = (self.n_inputs(), self.n_outputs());
+        let nj = jacs.len() / points.max(1);
+        for p in 0..points {
+            self.jacobian(
+                &xs[p * nin..(p + 1) * nin],
+                &mut ys[p * nout..(p + 1) * nout],
+                &mut jacs[p * nj..(p + 1) * nj],
+            );
+        }
+    }
+    /// [`NodeFunction::hessian`] at 1 to [`NodeFunction::batch`] points, each with its own
+    /// weights: `xs`, `ws` and `hess` hold one block per point.
+    fn hessian_batch(&self, xs: &[f64], ws: &[f64], hess: &mut [f64]) {
+        let points = xs.len() / self.n_inputs().max(1);
+        let (nin, nout) = (self.n_inputs(), self.n_outputs());
+        let nh = hess.len() / points.max(1);
+        for p in 0..points {
+            self.hessian(
+                &xs[p * nin..(p + 1) * nin],
+                &ws[p * nout..(p + 1) * nout],
+                &mut hess[p * nh..(p + 1) * nh],
+            );
+        }
+    }
 }
 
 impl<N: NodeFunction + Send> NodeFunction for std::sync::Arc<N> {
@@ -65,6 +97,15 @@ impl<N: NodeFunction + Send> NodeFunction for std::sync::Arc<N> {
     }
     fn hessian(&self, x: &[f64], w: &[f64], hess: &mut [f64]) {
         (**self).hessian(x, w, hess)
+    }
+    fn batch(&self) -> usize {
+        (**self).batch()
+    }
+    fn jacobian_batch(&self, xs: &[f64], ys: &mut [f64], jacs: &mut [f64]) {
+        (**self).jacobian_batch(xs, ys, jacs)
+    }
+    fn hessian_batch(&self, xs: &[f64], ws: &[f64], hess: &mut [f64]) {
+        (**self).hessian_batch(xs, ws, hess)
     }
 }
 
@@ -538,15 +579,20 @@ impl<F: NodeFunction> Transcription<F> {
             let c = &mut *cache;
             c.values.resize(self.n_nodes * nout, 0.0);
             c.jac.resize(self.n_nodes * nj, 0.0);
+            // Points in batches that the node function evaluates together.
+            let batch = self.node.batch().max(1);
             c.values
-                .par_chunks_mut(nout)
-                .zip(c.jac.par_chunks_mut(nj))
+                .par_chunks_mut(nout * batch)
+                .zip(c.jac.par_chunks_mut(nj * batch))
                 .enumerate()
                 .for_each_init(
-                    || vec![0.0; nin],
-                    |xin, (i, (y, jac))| {
-                        self.gather(x, i, xin);
-                        self.node.jacobian(xin, y, jac);
+                    || vec![0.0; nin * batch],
+                    |xin, (b, (y, jac))| {
+                        let points = y.len() / nout;
+                        for p in 0..points {
+                            self.gather(x, b * batch + p, &mut xin[p * nin..(p + 1) * nin]);
+                        }
+                        self.node.jacobian_batch(&xin[..points * nin], y, jac);
                     },
                 );
             c.valid_jac = true;
@@ -726,16 +772,27 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         // Node Hessians in parallel, then scattered (positions may repeat across nodes).
         let mut node_h = self.node_hessians.lock().unwrap_or_else(|e| e.into_inner());
         node_h.resize(self.n_nodes * nh, 0.0);
-        node_h.par_chunks_mut(nh).enumerate().for_each_init(
-            || (vec![0.0; nin], vec![0.0; self.n_out]),
-            |(xin, w), (i, hv)| {
-                self.gather(x, i, xin);
-                let base = i * per_point + ns;
-                w[..self.n_path].copy_from_slice(&lambda[base..base + self.n_path]);
-                w[self.n_path] = obj_factor * cc * tf * b[i % 3];
-                self.node.hessian(xin, w, hv);
-            },
-        );
+        let batch = self.node.batch().max(1);
+        let nout = self.n_out;
+        node_h
+            .par_chunks_mut(nh.max(1) * batch)
+            .enumerate()
+            .for_each_init(
+                || (vec![0.0; nin * batch], vec![0.0; nout * batch]),
+                |(xin, w), (k, hv)| {
+                    let points = hv.len() / nh.max(1);
+                    for p in 0..points {
+                        let i = k * batch + p;
+                        self.gather(x, i, &mut xin[p * nin..(p + 1) * nin]);
+                        let base = i * per_point + ns;
+                        let wp = &mut w[p * nout..(p + 1) * nout];
+                        wp[..self.n_path].copy_from_slice(&lambda[base..base + self.n_path]);
+                        wp[self.n_path] = obj_factor * cc * tf * b[i % 3];
+                    }
+                    self.node
+                        .hessian_batch(&xin[..points * nin], &w[..points * nout], hv);
+                },
+            );
         for (p, &pos) in self.node_hess_pos.iter().enumerate() {
             vals[pos] += node_h[p];
         }

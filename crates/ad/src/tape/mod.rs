@@ -12,12 +12,14 @@
 //!   forward-over-reverse in `LANES`-wide chunks of a distance-2 colouring of the
 //!   Hessian columns, each chunk restricted to the nodes its seeds can reach.
 
+mod batch;
 mod build;
 pub mod op;
 mod sparse;
 mod sweep;
 mod var;
 
+pub use batch::{BatchWorkspace, BATCH};
 pub use op::{Elem, Op};
 pub use var::Var;
 
@@ -87,8 +89,10 @@ pub struct Workspace {
     abar: Vec<f64>,
     lane_a: Vec<[f64; LANES]>,
     lane_b: Vec<[f64; LANES]>,
-    grad: Vec<f64>,
-    adot: Vec<f64>,
+    /// Sparse forward gradients (one lane).
+    grad: Vec<[f64; 1]>,
+    /// Sparse second-order adjoints (one lane).
+    adot: Vec<[f64; 1]>,
 }
 
 /// Size statistics of a tape (for reports and benchmarks).
@@ -229,14 +233,26 @@ impl Tape {
     pub fn workspace(&self) -> Workspace {
         let n = self.n_nodes + 1;
         Workspace {
+            lane_a: vec![[0.0; LANES]; n],
+            lane_b: vec![[0.0; LANES]; n],
+            grad: vec![[0.0]; self.sparse.grad_len()],
+            adot: vec![[0.0]; self.sparse.adot_len()],
+            ..self.value_workspace()
+        }
+    }
+
+    /// A workspace for the value sweeps only (no sparse or coloured derivative stores).
+    fn value_workspace(&self) -> Workspace {
+        let n = self.n_nodes + 1;
+        Workspace {
             vals: vec![0.0; n],
             part: vec![[0.0; 2]; self.ops.len()],
             sec: vec![[0.0; 3]; self.ops.len()],
             abar: vec![0.0; n],
-            lane_a: vec![[0.0; LANES]; n],
-            lane_b: vec![[0.0; LANES]; n],
-            grad: vec![0.0; self.sparse.grad_len()],
-            adot: vec![0.0; self.sparse.adot_len()],
+            lane_a: Vec::new(),
+            lane_b: Vec::new(),
+            grad: Vec::new(),
+            adot: Vec::new(),
         }
     }
 
@@ -280,8 +296,8 @@ impl Tape {
         check_len("Jacobian values", self.jac_pattern.nnz(), jac.len())?;
         self.forward::<1>(x, ws);
         self.write_outputs(ws, y);
-        self.sparse_forward(ws);
-        self.sparse_jacobian_extract(ws, jac);
+        self.sparse_forward([&ws.part], &mut ws.grad);
+        self.sparse_jacobian_extract(&ws.grad, 0, jac);
         Ok(())
     }
 
@@ -365,8 +381,13 @@ impl Tape {
         self.forward::<2>(x, ws);
         self.write_outputs(ws, y);
         self.adjoint_sweep(ws, lambda);
-        self.sparse_forward(ws);
-        self.sparse_hessian(ws, hes);
+        self.sparse_forward([&ws.part], &mut ws.grad);
+        let locals = sparse::LaneLocals {
+            part: &ws.part,
+            sec: &ws.sec,
+            abar: &ws.abar,
+        };
+        self.sparse_hessian([locals], &ws.grad, &mut ws.adot, [hes]);
         Ok(())
     }
 

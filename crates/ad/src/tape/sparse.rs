@@ -9,7 +9,6 @@
 //!   sparse gradients `∇a` of the forward pass. Row `i` of the Hessian is `ȧ` of input `i`.
 
 use super::op::{Curvature, Op};
-use super::Workspace;
 use crate::sparsity::{bits, BitSets, Pattern};
 
 /// Where the entries of a source index set land in a destination index set.
@@ -334,12 +333,20 @@ fn range(off: &[u32], k: usize) -> std::ops::Range<usize> {
     off[k] as usize..off[k + 1] as usize
 }
 
-/// `dst[map[i]] += c * src[i]` (or `dst[i] += c * src[i]` for the identity).
+/// `dst[map[i]][l] += c[l] * src[i][l]` for every lane `l` (or `dst[i]` for the identity).
 #[inline]
-fn axpy(dst: &mut [f64], src: &[f64], c: f64, m: Map, store: &[u32]) {
+fn axpy<const L: usize>(
+    dst: &mut [[f64; L]],
+    src: &[[f64; L]],
+    c: [f64; L],
+    m: Map,
+    store: &[u32],
+) {
     if m.ident {
         for (d, s) in dst.iter_mut().zip(src) {
-            *d += c * s;
+            for l in 0..L {
+                d[l] += c[l] * s[l];
+            }
         }
     } else {
         let pos = &store[m.off as usize..m.off as usize + src.len()];
@@ -347,69 +354,115 @@ fn axpy(dst: &mut [f64], src: &[f64], c: f64, m: Map, store: &[u32]) {
         for (&p, s) in pos.iter().zip(src) {
             // SAFETY: every stored position was found inside the destination set when the
             // plan was built (`map_of`), and `dst` is that set's slice of the store.
-            unsafe { *dst.get_unchecked_mut(p as usize) += c * s };
+            let d = unsafe { dst.get_unchecked_mut(p as usize) };
+            for l in 0..L {
+                d[l] += c[l] * s[l];
+            }
         }
     }
 }
 
+/// The local derivatives of one evaluation point (lane) that the sparse sweeps read:
+/// first partials, second partials and adjoints of every operation.
+#[derive(Clone, Copy)]
+pub(super) struct LaneLocals<'a> {
+    pub part: &'a [[f64; 2]],
+    pub sec: &'a [[f64; 3]],
+    pub abar: &'a [f64],
+}
+
 impl super::Tape {
-    /// Forward sparse gradients of every node into `ws.grad` (needs `forward::<1>`).
-    pub(super) fn sparse_forward(&self, ws: &mut Workspace) {
+    /// Forward sparse gradients of every node into `g`, for `L` evaluation points at once
+    /// (lane `l` uses the partials `part[l]` of its own `forward::<1>` sweep).
+    pub(super) fn sparse_forward<const L: usize>(
+        &self,
+        part: [&[[f64; 2]]; L],
+        g: &mut [[f64; L]],
+    ) {
         let sp = &self.sparse;
-        let g = &mut ws.grad;
         for i in 0..self.n_in {
             let r = range(&sp.poff, i);
             if !r.is_empty() {
-                g[r.start] = 1.0;
+                g[r.start] = [1.0; L];
             }
         }
         for s in &sp.fwd {
-            let [pa, pb] = ws.part[s.t as usize];
+            let t = s.t as usize;
+            let (mut ca, mut cb) = ([0.0; L], [0.0; L]);
+            for l in 0..L {
+                let [pa, pb] = part[l][t];
+                ca[l] = if s.same { pa + pb } else { pa };
+                cb[l] = pb;
+            }
             // Operands precede the result in the store: split there.
             let (lo, hi) = g.split_at_mut(s.k as usize);
             let gk = &mut hi[..s.k_len as usize];
-            let ca = if s.same { pa + pb } else { pa };
             let ga = &lo[s.a as usize..(s.a + s.a_len) as usize];
             if s.a_len > 0 && s.fa.ident {
                 // Same index set as the result: write, no zeroing needed.
                 for (d, x) in gk.iter_mut().zip(ga) {
-                    *d = ca * x;
+                    for l in 0..L {
+                        d[l] = ca[l] * x[l];
+                    }
                 }
             } else {
-                gk.iter_mut().for_each(|x| *x = 0.0);
+                gk.iter_mut().for_each(|x| *x = [0.0; L]);
                 if s.a_len > 0 {
                     axpy(gk, ga, ca, s.fa, &sp.store);
                 }
             }
             if s.b_len > 0 {
                 let gb = &lo[s.b as usize..(s.b + s.b_len) as usize];
-                axpy(gk, gb, pb, s.fb, &sp.store);
+                axpy(gk, gb, cb, s.fb, &sp.store);
             }
         }
     }
 
-    /// Copies the Jacobian rows (forward sparse gradients of the outputs).
-    pub(super) fn sparse_jacobian_extract(&self, ws: &Workspace, jac: &mut [f64]) {
+    /// Copies the Jacobian rows (forward sparse gradients of the outputs) of lane `lane`.
+    pub(super) fn sparse_jacobian_extract<const L: usize>(
+        &self,
+        g: &[[f64; L]],
+        lane: usize,
+        jac: &mut [f64],
+    ) {
         let sp = &self.sparse;
         let mut e = 0;
         for &o in &self.outputs {
-            let r = range(&sp.poff, o as usize);
-            let n = r.len();
-            jac[e..e + n].copy_from_slice(&ws.grad[r]);
-            e += n;
+            for v in &g[range(&sp.poff, o as usize)] {
+                jac[e] = v[lane];
+                e += 1;
+            }
         }
     }
 
-    /// Second-order adjoint sweep and Hessian extraction (needs `forward::<2>`,
-    /// `sparse_forward` and `adjoint_sweep`).
-    pub(super) fn sparse_hessian(&self, ws: &mut Workspace, hes: &mut [f64]) {
+    /// Second-order adjoint sweep for `L` evaluation points at once, and extraction of the
+    /// Hessian lower triangle of each lane into `hes[l]` (needs `forward::<2>` and
+    /// `adjoint_sweep` per lane, and `sparse_forward` into `g`). `d` is left zeroed.
+    pub(super) fn sparse_hessian<const L: usize>(
+        &self,
+        lanes: [LaneLocals<'_>; L],
+        g: &[[f64; L]],
+        d: &mut [[f64; L]],
+        hes: [&mut [f64]; L],
+    ) {
         let sp = &self.sparse;
-        let (g, d) = (&ws.grad, &mut ws.adot);
         for s in &sp.rev {
             let t = s.t as usize;
-            let [pa, pb] = ws.part[t];
-            let [saa, sab, sbb] = ws.sec[t];
-            let ak = ws.abar[s.k as usize];
+            let (mut pa, mut pb, mut cs, mut cab, mut cbb) =
+                ([0.0; L], [0.0; L], [0.0; L], [0.0; L], [0.0; L]);
+            for l in 0..L {
+                let [a, b] = lanes[l].part[t];
+                let [saa, sab, sbb] = lanes[l].sec[t];
+                let ak = lanes[l].abar[s.k as usize];
+                if s.same {
+                    pa[l] = a + b;
+                    cs[l] = ak * (saa + 2.0 * sab + sbb);
+                } else {
+                    (pa[l], pb[l]) = (a, b);
+                    cab[l] = ak * sab;
+                    cbb[l] = ak * sbb;
+                }
+            }
             let m = &s.maps;
             // Operands precede the result: their adjoint sets lie before R(k).
             let (lo, hi) = d.split_at_mut(s.rk.start as usize);
@@ -419,16 +472,16 @@ impl super::Tape {
             let gb = &g[s.pb.range()];
             if s.same {
                 let da = &mut lo[s.ra.range()];
-                axpy(da, dk, pa + pb, m.ra, &sp.store);
+                axpy(da, dk, pa, m.ra, &sp.store);
                 if nonlinear {
-                    axpy(da, ga, ak * (saa + 2.0 * sab + sbb), m.pa_ra, &sp.store);
+                    axpy(da, ga, cs, m.pa_ra, &sp.store);
                 }
             } else {
                 if s.ra.len > 0 {
                     let da = &mut lo[s.ra.range()];
                     axpy(da, dk, pa, m.ra, &sp.store);
                     if nonlinear && !gb.is_empty() {
-                        axpy(da, gb, ak * sab, m.pb_ra, &sp.store);
+                        axpy(da, gb, cab, m.pb_ra, &sp.store);
                     }
                 }
                 if s.rb.len > 0 {
@@ -436,21 +489,23 @@ impl super::Tape {
                     axpy(db, dk, pb, m.rb, &sp.store);
                     if nonlinear {
                         if !ga.is_empty() {
-                            axpy(db, ga, ak * sab, m.pa_rb, &sp.store);
+                            axpy(db, ga, cab, m.pa_rb, &sp.store);
                         }
                         if s.curv == Curvature::Quotient && !gb.is_empty() {
-                            axpy(db, gb, ak * sbb, m.pb_rb, &sp.store);
+                            axpy(db, gb, cbb, m.pb_rb, &sp.store);
                         }
                     }
                 }
             }
-            dk.iter_mut().for_each(|x| *x = 0.0);
+            dk.iter_mut().for_each(|x| *x = [0.0; L]);
         }
-        for (h, &pos) in hes.iter_mut().zip(&sp.hes_extract) {
-            *h = d[pos as usize];
+        for (l, h) in hes.into_iter().enumerate() {
+            for (h, &pos) in h.iter_mut().zip(&sp.hes_extract) {
+                *h = d[pos as usize][l];
+            }
         }
         d[..sp.roff[self.n_in] as usize]
             .iter_mut()
-            .for_each(|x| *x = 0.0);
+            .for_each(|x| *x = [0.0; L]);
     }
 }

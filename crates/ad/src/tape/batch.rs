@@ -1,0 +1,146 @@
+//! Derivatives of one tape at several points at once (the collocation points of a
+//! transcription all share the node function): the value sweeps run per point, the sparse
+//! derivative sweeps carry `BATCH` lanes per stored entry, so each index set, map and
+//! instruction is read once for all points and the arithmetic vectorises.
+
+use super::sparse::LaneLocals;
+use super::{Tape, Workspace};
+use crate::error::{check_len, AdError};
+
+/// Number of evaluation points propagated together by [`Tape::jacobian_batch`] and
+/// [`Tape::hessian_batch`].
+pub const BATCH: usize = 4;
+
+/// Scratch memory for evaluating one [`Tape`] at up to [`BATCH`] points together.
+#[derive(Clone, Debug)]
+pub struct BatchWorkspace {
+    /// Values, local partials and adjoints of each point.
+    lanes: Vec<Workspace>,
+    /// Sparse forward gradients, one lane per point.
+    grad: Vec<[f64; BATCH]>,
+    /// Sparse second-order adjoints, one lane per point.
+    adot: Vec<[f64; BATCH]>,
+    /// Hessian values of the lanes beyond the last point of a short batch (discarded).
+    spare: Vec<f64>,
+}
+
+impl Tape {
+    /// A fresh batch workspace sized for this tape.
+    pub fn batch_workspace(&self) -> BatchWorkspace {
+        BatchWorkspace {
+            lanes: (0..BATCH).map(|_| self.value_workspace()).collect(),
+            grad: vec![[0.0; BATCH]; self.sparse.grad_len()],
+            adot: vec![[0.0; BATCH]; self.sparse.adot_len()],
+            spare: vec![0.0; self.hes_pattern.nnz() * (BATCH - 1)],
+        }
+    }
+
+    /// Number of points in a batch of `len` inputs (a multiple of `n_inputs`, 1..=BATCH).
+    fn batch_points(&self, len: usize, bw: &BatchWorkspace) -> Result<usize, AdError> {
+        let n = self.n_in.max(1);
+        let points = len / n;
+        if !len.is_multiple_of(n) || points == 0 || points > BATCH {
+            return Err(AdError::Length {
+                what: "batch inputs xs (1 to BATCH points of n_inputs values)",
+                expected: self.n_in * BATCH,
+                got: len,
+            });
+        }
+        if bw.grad.len() != self.sparse.grad_len() || bw.adot.len() != self.sparse.adot_len() {
+            return Err(AdError::Workspace {
+                ws_nodes: bw.lanes[0].vals.len().saturating_sub(1),
+                tape_nodes: self.n_nodes,
+            });
+        }
+        Ok(points)
+    }
+
+    /// Value sweeps of every lane at `xs` (point after point; lanes beyond the last point
+    /// repeat it), writing the outputs of the real points into `ys`.
+    fn batch_values<const ORD: u8>(
+        &self,
+        xs: &[f64],
+        points: usize,
+        bw: &mut BatchWorkspace,
+        ys: &mut [f64],
+    ) {
+        let (n, m) = (self.n_in, self.outputs.len());
+        for (l, ws) in bw.lanes.iter_mut().enumerate() {
+            let p = l.min(points - 1);
+            self.forward::<ORD>(&xs[p * n..(p + 1) * n], ws);
+            if l < points {
+                self.write_outputs(ws, &mut ys[l * m..(l + 1) * m]);
+            }
+        }
+    }
+
+    /// Evaluates `y = f(x)` and the Jacobian values at 1 to [`BATCH`] points: `xs` holds the
+    /// points one after the other, `ys` and `jacs` receive the outputs and the Jacobian
+    /// values (order of [`Tape::jacobian_pattern`]) point after point. Same numbers as
+    /// [`Tape::jacobian`] at each point.
+    pub fn jacobian_batch(
+        &self,
+        xs: &[f64],
+        bw: &mut BatchWorkspace,
+        ys: &mut [f64],
+        jacs: &mut [f64],
+    ) -> Result<(), AdError> {
+        let points = self.batch_points(xs.len(), bw)?;
+        let nnz = self.jac_pattern.nnz();
+        check_len("outputs ys", self.outputs.len() * points, ys.len())?;
+        check_len("Jacobian values jacs", nnz * points, jacs.len())?;
+        self.batch_values::<1>(xs, points, bw, ys);
+        let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
+        self.sparse_forward(part, &mut bw.grad);
+        for (l, jac) in jacs.chunks_exact_mut(nnz.max(1)).take(points).enumerate() {
+            self.sparse_jacobian_extract(&bw.grad, l, jac);
+        }
+        Ok(())
+    }
+
+    /// Evaluates `y = f(x)` and the lower triangle of the Hessian of `Σ λᵢ yᵢ` at 1 to
+    /// [`BATCH`] points, each with its own multipliers: `xs`, `lambdas`, `ys` and `hes`
+    /// hold one block per point. Same numbers as [`Tape::hessian`] at each point.
+    pub fn hessian_batch(
+        &self,
+        xs: &[f64],
+        lambdas: &[f64],
+        bw: &mut BatchWorkspace,
+        ys: &mut [f64],
+        hes: &mut [f64],
+    ) -> Result<(), AdError> {
+        let points = self.batch_points(xs.len(), bw)?;
+        let (m, nnz) = (self.outputs.len(), self.hes_pattern.nnz());
+        check_len("multipliers lambdas", m * points, lambdas.len())?;
+        check_len("outputs ys", m * points, ys.len())?;
+        check_len("Hessian values hes", nnz * points, hes.len())?;
+        self.batch_values::<2>(xs, points, bw, ys);
+        for (l, ws) in bw.lanes.iter_mut().enumerate() {
+            let p = l.min(points - 1);
+            self.adjoint_sweep(ws, &lambdas[p * m..(p + 1) * m]);
+        }
+        let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
+        self.sparse_forward(part, &mut bw.grad);
+        let locals: [LaneLocals<'_>; BATCH] = std::array::from_fn(|l| LaneLocals {
+            part: &bw.lanes[l].part,
+            sec: &bw.lanes[l].sec,
+            abar: &bw.lanes[l].abar,
+        });
+        if nnz == 0 {
+            return Ok(());
+        }
+        // Lanes beyond the last point write into scratch.
+        let mut real = hes.chunks_exact_mut(nnz);
+        let mut spare = bw.spare.chunks_exact_mut(nnz);
+        let outs: [&mut [f64]; BATCH] = std::array::from_fn(|l| {
+            let next = if l < points {
+                real.next()
+            } else {
+                spare.next()
+            };
+            next.expect("one block of nnz values per lane (lengths checked above)")
+        });
+        self.sparse_hessian(locals, &bw.grad, &mut bw.adot, outs);
+        Ok(())
+    }
+}
