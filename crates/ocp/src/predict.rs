@@ -259,11 +259,11 @@ pub fn write_results(
         // Solver logs of every guess.
         for s in solved {
             let mut log =
-                String::from("iter,objective,inf_pr,inf_du,mu,alpha_pr,alpha_du,elapsed_s\n");
+                String::from("iter,objective,inf_pr,inf_du,mu,alpha_pr,alpha_du,regularisation,line_search_trials,factorisations,elapsed_s\n");
             for r in &s.result.log {
                 let _ = writeln!(
                     log,
-                    "{},{},{},{},{},{},{},{}",
+                    "{},{},{},{},{},{},{},{},{},{},{}",
                     r.iter,
                     r.objective,
                     r.inf_pr,
@@ -271,6 +271,9 @@ pub fn write_results(
                     r.mu,
                     r.alpha_pr,
                     r.alpha_du,
+                    r.regularisation,
+                    r.ls_trials,
+                    r.factorisations,
                     r.elapsed.as_secs_f64()
                 );
             }

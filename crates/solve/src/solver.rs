@@ -246,6 +246,10 @@ pub struct IterationRecord {
     pub regularisation: f64,
     /// Number of line-search trial points.
     pub ls_trials: usize,
+    /// Numeric factorisations of the KKT matrix in the iteration that led here (inertia
+    /// corrections included; 0 where the backend does not report them).
+    #[serde(default)]
+    pub factorisations: usize,
     /// Wall-clock time since the solve started.
     pub elapsed: Duration,
 }

@@ -68,6 +68,9 @@ const FIXED_DIAG: f64 = 1e20;
 const CONSTR_MULT_INIT_MAX: f64 = 1000.0;
 /// Constant regularisation of the constraint block (quasi-definiteness).
 const DELTA_C: f64 = 1e-9;
+/// Inertia correction: after a regularised iteration the next one starts from δ_w_last/3
+/// instead of 0 while that is at least this large.
+const REG_SKIP_ZERO_MIN: f64 = 1e-8;
 
 /// Margin factor of the obj-constr-filter μ globalisation (IPOPT `filter_margin_fact`).
 const MU_FILTER_MARGIN: f64 = 1e-5;
@@ -969,6 +972,8 @@ pub fn solve(
     let mut dw_soc = vec![0.0; big_n];
     let mut dlam_soc = vec![0.0; m];
     let mut delta_w_last = 0.0f64;
+    // whether the previous iteration's KKT matrix needed δ_w > 0
+    let mut regularised_last = false;
     let mut log: Vec<IterationRecord> = Vec::new();
     let mut acceptable_count = 0usize;
     let mut ls_failures = 0usize;
@@ -999,6 +1004,7 @@ pub fn solve(
     let mut floor_iters = 0usize;
     let mut exact_from: Option<usize> = None;
 
+    let mut factorizations_before = factorizations;
     loop {
         // ---- optimality error --------------------------------------------------------------
         st.residual(&st.w, &st.c, &mut r);
@@ -1251,7 +1257,16 @@ pub fn solve(
                 1.0 / sigma[n + k].max(1e-20) + delta_c
             };
         }
-        let mut delta_w = 0.0f64;
+        // First trial δ_w: 0, as IPOPT, unless the previous iteration needed a
+        // regularisation; then δ_w_last/3 directly (the trial with 0 almost always fails
+        // again: on the 50-interval gait problem, 228 → 155 factorisations in the 103
+        // exact-Hessian iterations, same iterates' count and optimum; decision 0002). Once
+        // δ_w has decayed below 1e-8, 0 is tried again.
+        let mut delta_w = if regularised_last && delta_w_last / 3.0 >= REG_SKIP_ZERO_MIN {
+            delta_w_last / 3.0
+        } else {
+            0.0f64
+        };
         let t_lin = Instant::now();
         let mut ok = false;
         for _ in 0..60 {
@@ -1307,6 +1322,7 @@ pub fn solve(
         if delta_w > 0.0 {
             delta_w_last = delta_w;
         }
+        regularised_last = delta_w > 0.0;
         // With the limited-memory correction, the Newton steps this iteration needs are
         // solved in the same block solve as the correction's columns (one pass over the
         // factor instead of one per step): in free mode the steps for μ = 0 and μ = average
@@ -1910,8 +1926,10 @@ pub fn solve(
             alpha_du: alpha_z,
             regularisation: delta_w,
             ls_trials: trials,
+            factorisations: factorizations - factorizations_before,
             ..Default::default()
         };
+        factorizations_before = factorizations;
     }
 
     // ---- result (unscaled) ---------------------------------------------------------------

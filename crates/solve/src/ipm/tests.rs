@@ -43,6 +43,14 @@ fn check(name: &str, nlp: &dyn Nlp, opts: &SolverOptions, f_opt: f64, x_opt: &[f
         "{name}: violation {}",
         r.constraint_violation
     );
+    // Every iteration factorises the KKT matrix at least once; the log's per-iteration
+    // counts add up to at most the total (which also has the multiplier initialisation).
+    let logged: usize = r.log.iter().map(|l| l.factorisations).sum();
+    assert!(
+        r.log[1..].iter().all(|l| l.factorisations >= 1) && logged < r.factorizations,
+        "{name}: logged factorisations {logged}, total {}",
+        r.factorizations
+    );
 }
 
 fn all_options() -> Vec<(&'static str, SolverOptions)> {
