@@ -350,10 +350,10 @@ fn axpy<const L: usize>(
         }
     } else {
         let pos = &store[m.off as usize..m.off as usize + src.len()];
-        debug_assert!(pos.iter().all(|&p| (p as usize) < dst.len()));
         for (&p, s) in pos.iter().zip(src) {
             // SAFETY: every stored position was found inside the destination set when the
-            // plan was built (`map_of`), and `dst` is that set's slice of the store.
+            // plan was built (`map_of` indexes that set with bounds checks), and every
+            // caller passes that set's slice of the store as `dst`.
             let d = unsafe { dst.get_unchecked_mut(p as usize) };
             for l in 0..L {
                 d[l] += c[l] * s[l];
