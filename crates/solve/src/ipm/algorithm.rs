@@ -68,8 +68,9 @@ const FIXED_DIAG: f64 = 1e20;
 const CONSTR_MULT_INIT_MAX: f64 = 1000.0;
 /// Constant regularisation of the constraint block (quasi-definiteness).
 const DELTA_C: f64 = 1e-9;
-/// Inertia correction: after a regularised iteration the next one starts from δ_w_last/3
-/// instead of 0 while that is at least this large.
+/// Inertia correction in the exact-Hessian tail of a hybrid solve: after a regularised
+/// iteration the next one starts from δ_w_last/3 instead of 0 while that is at least this
+/// large.
 const REG_SKIP_ZERO_MIN: f64 = 1e-8;
 
 /// Margin factor of the obj-constr-filter μ globalisation (IPOPT `filter_margin_fact`).
@@ -1257,12 +1258,15 @@ pub fn solve(
                 1.0 / sigma[n + k].max(1e-20) + delta_c
             };
         }
-        // First trial δ_w: 0, as IPOPT, unless the previous iteration needed a
-        // regularisation; then δ_w_last/3 directly (the trial with 0 almost always fails
-        // again: on the 50-interval gait problem, 228 → 155 factorisations in the 103
-        // exact-Hessian iterations, same iterates' count and optimum; decision 0002). Once
-        // δ_w has decayed below 1e-8, 0 is tried again.
-        let mut delta_w = if regularised_last && delta_w_last / 3.0 >= REG_SKIP_ZERO_MIN {
+        // First trial δ_w: 0, as IPOPT. In the exact-Hessian tail of a hybrid solve, after a
+        // regularised iteration, δ_w_last/3 directly (the trial with 0 almost always fails
+        // again there: on the 50-interval gait problem, 228 → 155 factorisations in the 103
+        // exact-Hessian iterations, same iteration count and optimum; decision 0002). Not
+        // from the start of an exact-Hessian solve: at 10 intervals it led to a higher local
+        // optimum (303.98 instead of IPOPT's 301.52). Once δ_w has decayed below 1e-8, 0 is
+        // tried again.
+        let skip_zero = exact_from.is_some() && regularised_last;
+        let mut delta_w = if skip_zero && delta_w_last / 3.0 >= REG_SKIP_ZERO_MIN {
             delta_w_last / 3.0
         } else {
             0.0f64
