@@ -56,10 +56,12 @@ impl Tape {
     }
 
     /// Value sweeps of every lane at `xs` (point after point; lanes beyond the last point
-    /// repeat it), writing the outputs of the real points into `ys`.
+    /// repeat it), writing the outputs of the real points into `ys`; with `lambdas`, also
+    /// each lane's adjoint sweep with its point's multipliers.
     fn batch_values<const ORD: u8>(
         &self,
         xs: &[f64],
+        lambdas: Option<&[f64]>,
         points: usize,
         bw: &mut BatchWorkspace,
         ys: &mut [f64],
@@ -70,6 +72,9 @@ impl Tape {
             self.forward::<ORD>(&xs[p * n..(p + 1) * n], ws);
             if l < points {
                 self.write_outputs(ws, &mut ys[l * m..(l + 1) * m]);
+            }
+            if let Some(lambdas) = lambdas {
+                self.adjoint_sweep(ws, &lambdas[p * m..(p + 1) * m]);
             }
         }
     }
@@ -89,7 +94,7 @@ impl Tape {
         let nnz = self.jac_pattern.nnz();
         check_len("outputs ys", self.outputs.len() * points, ys.len())?;
         check_len("Jacobian values jacs", nnz * points, jacs.len())?;
-        self.batch_values::<1>(xs, points, bw, ys);
+        self.batch_values::<1>(xs, None, points, bw, ys);
         let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
         self.sparse_forward(part, &mut bw.grad);
         for (l, jac) in jacs.chunks_exact_mut(nnz.max(1)).take(points).enumerate() {
@@ -114,11 +119,7 @@ impl Tape {
         check_len("multipliers lambdas", m * points, lambdas.len())?;
         check_len("outputs ys", m * points, ys.len())?;
         check_len("Hessian values hes", nnz * points, hes.len())?;
-        self.batch_values::<2>(xs, points, bw, ys);
-        for (l, ws) in bw.lanes.iter_mut().enumerate() {
-            let p = l.min(points - 1);
-            self.adjoint_sweep(ws, &lambdas[p * m..(p + 1) * m]);
-        }
+        self.batch_values::<2>(xs, Some(lambdas), points, bw, ys);
         let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
         self.sparse_forward(part, &mut bw.grad);
         let locals: [LaneLocals<'_>; BATCH] = std::array::from_fn(|l| LaneLocals {

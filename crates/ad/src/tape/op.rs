@@ -92,10 +92,9 @@ pub enum Op {
 }
 
 /// Which kind of second-order interaction an operation creates between its operands.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Curvature {
     /// Linear or piecewise linear: no second derivative.
-    #[default]
     Linear,
     /// Nonlinear in its single operand.
     Unary,

@@ -38,7 +38,7 @@ struct OpMaps {
 
 /// One active operation of the forward gradient sweep, with every offset it needs laid
 /// out together so that the sweep reads its instructions sequentially.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct FwdStep {
     /// Operation index (row of the local partials).
     t: u32,
@@ -73,7 +73,7 @@ impl Span {
 
 /// One active operation of the second-order adjoint sweep (reverse order), with the spans
 /// of its index sets and its maps together.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct RevStep {
     /// Operation index (row of the local partials) and node index.
     t: u32,
