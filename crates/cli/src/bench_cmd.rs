@@ -388,7 +388,8 @@ fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
     let solver = predict_cmd::backend(&a.backend)?;
     let guess = predict_cmd::parse_guess(&a.guess)?;
     let hessian = predict_cmd::parse_hessian(Some(&a.hessian), &a.backend)?;
-    let options = predict_cmd::prediction_options(None, Some(a.max_iter), hessian, a.time_limit)?;
+    let options =
+        predict_cmd::prediction_options(None, Some(a.max_iter), hessian, a.time_limit, None)?;
     let model = stride_model::default_model::default_model();
     let (_, solved) = predict::solve_guesses(
         &model,

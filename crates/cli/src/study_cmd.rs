@@ -69,9 +69,11 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
             args.max_iter.or(s.max_iter),
             hessian,
             s.time_limit,
+            s.centrality_correctors,
         )
         .with_context(section)?
     };
+    predict_cmd::check_correctors(&options, backend_name).with_context(section)?;
     let model = study_model(h.model.as_deref())?;
     check_cases(&model, &study.cases)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;

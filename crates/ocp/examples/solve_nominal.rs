@@ -6,7 +6,9 @@
 //! globalisations; default by Hessian mode), `STRIDE_MU_SAFEGUARD` (factor;
 //! default by Hessian mode), `STRIDE_KKT=ldlt|lblt`, `STRIDE_ORACLE=quality` (quality-function μ oracle),
 //! `STRIDE_WATCHDOG` (shortened steps that start the watchdog, 0: off), `STRIDE_HISTORY`
-//! (L-BFGS pairs, default 6), `STRIDE_EXACT_TAIL=1` (exact Hessian once μ is at its floor).
+//! (L-BFGS pairs, default 6), `STRIDE_EXACT_TAIL=1` (exact Hessian once μ is at its floor),
+//! `STRIDE_CORRECTORS` (centrality correctors per iteration, default 0). The constraint
+//! violation tolerance is 1e-6, as in `stride predict`.
 
 use std::ops::ControlFlow;
 use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
@@ -72,6 +74,11 @@ fn main() {
             .and_then(|v| v.parse().ok())
             .unwrap_or(10),
         exact_hessian_tail: std::env::var("STRIDE_EXACT_TAIL").as_deref() == Ok("1"),
+        centrality_correctors: std::env::var("STRIDE_CORRECTORS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(0),
+        constr_viol_tol: 1e-6,
         ..Default::default()
     };
     let backend = args.get(4).cloned().unwrap_or_else(|| "ipm".into());

@@ -134,6 +134,10 @@ pub struct SolverOptions {
     /// Pure-Rust interior point with the limited-memory Hessian: switch to the exact
     /// Hessian once μ has reached its floor (default false; the IPOPT backend ignores it).
     pub exact_hessian_tail: bool,
+    /// Pure-Rust interior point: at most this many centrality correctors (Gondzio) per
+    /// iteration, each one more solve with the iteration's factorisation, kept when it
+    /// lengthens the fraction-to-boundary step (default 0; the IPOPT backend ignores it).
+    pub centrality_correctors: usize,
     /// Apply gradient-based NLP scaling (IPOPT default).
     pub nlp_scaling: bool,
     /// Largest gradient entry after scaling (IPOPT `nlp_scaling_max_gradient`, 100).
@@ -185,6 +189,7 @@ impl Default for SolverOptions {
             watchdog_trigger: 10,
             kkt_ordering: KktOrdering::Auto,
             exact_hessian_tail: false,
+            centrality_correctors: 0,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
             bound_push: 1e-2,

@@ -53,7 +53,7 @@ pub enum SpecError {
 pub struct SolverSpec {
     /// Backend name (`ipm`, `ipopt`).
     pub backend: Option<String>,
-    /// Hessian: `limited-memory` (default) or `exact`.
+    /// Hessian: `hybrid` (default with `ipm`), `limited-memory` or `exact`.
     pub hessian: Option<String>,
     /// Convergence tolerance.
     pub tol: Option<f64>,
@@ -61,6 +61,8 @@ pub struct SolverSpec {
     pub max_iter: Option<usize>,
     /// Wall-time limit per case [s].
     pub time_limit: Option<f64>,
+    /// Centrality correctors per iteration (ipm only; default 2 with the hybrid Hessian).
+    pub centrality_correctors: Option<usize>,
 }
 
 /// The `[study]` table: identity, output, parallelism, solver.

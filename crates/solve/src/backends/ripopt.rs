@@ -50,7 +50,7 @@ pub fn ripopt_options(o: &SolverOptions) -> Result<ripopt::SolverOptions, SolveE
             reason: format!("must be > 0, got {}", o.tol),
         });
     }
-    super::setup::reject_exact_tail(o, "ripopt")?;
+    super::setup::reject_ipm_only(o, "ripopt")?;
     let mut r = ripopt::SolverOptions {
         tol: o.tol,
         max_iter: o.max_iter,

@@ -34,9 +34,10 @@ pub fn prepare(nlp: &dyn Nlp) -> Result<Prepared, SolveError> {
     })
 }
 
-/// Rejects `SolverOptions::exact_hessian_tail` for a backend (`name`) that cannot switch
-/// from the limited-memory to the exact Hessian during a solve (a stride-ipm feature).
-pub fn reject_exact_tail(o: &SolverOptions, name: &str) -> Result<(), SolveError> {
+/// Rejects the stride-ipm features a backend (`name`) does not have:
+/// `SolverOptions::exact_hessian_tail` (switching from the limited-memory to the exact
+/// Hessian during a solve) and `SolverOptions::centrality_correctors`.
+pub fn reject_ipm_only(o: &SolverOptions, name: &str) -> Result<(), SolveError> {
     if o.exact_hessian_tail {
         return Err(SolveError::InvalidOption {
             name: "exact_hessian_tail",
@@ -46,5 +47,45 @@ pub fn reject_exact_tail(o: &SolverOptions, name: &str) -> Result<(), SolveError
             ),
         });
     }
+    if o.centrality_correctors > 0 {
+        return Err(SolveError::InvalidOption {
+            name: "centrality_correctors",
+            reason: format!(
+                "{name} has no centrality correctors (a stride-ipm feature); set them to 0"
+            ),
+        });
+    }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::HessianMode;
+
+    #[test]
+    fn ipm_only_options_are_named_in_the_error() {
+        assert!(reject_ipm_only(&SolverOptions::default(), "IPOPT").is_ok());
+        let tail = SolverOptions {
+            hessian: HessianMode::LimitedMemory { history: 6 },
+            exact_hessian_tail: true,
+            ..SolverOptions::default()
+        };
+        let correctors = SolverOptions {
+            centrality_correctors: 2,
+            ..SolverOptions::default()
+        };
+        for (o, field) in [
+            (tail, "exact_hessian_tail"),
+            (correctors, "centrality_correctors"),
+        ] {
+            match reject_ipm_only(&o, "IPOPT") {
+                Err(SolveError::InvalidOption { name, reason }) => {
+                    assert_eq!(name, field);
+                    assert!(reason.contains("IPOPT"), "{reason}");
+                }
+                other => panic!("{field}: {other:?}"),
+            }
+        }
+    }
 }

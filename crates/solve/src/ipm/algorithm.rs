@@ -73,6 +73,16 @@ const DELTA_C: f64 = 1e-9;
 /// large.
 const REG_SKIP_ZERO_MIN: f64 = 1e-8;
 
+/// Centrality correctors (Gondzio 1996): products outside [β_min μ, β_max μ] are corrected.
+const CORRECTOR_BETA_MIN: f64 = 0.1;
+const CORRECTOR_BETA_MAX: f64 = 10.0;
+/// A corrector aims at the step size min(1, CORRECTOR_AIM_FACTOR α + CORRECTOR_AIM_ADD).
+const CORRECTOR_AIM_FACTOR: f64 = 2.0;
+const CORRECTOR_AIM_ADD: f64 = 0.1;
+/// A corrected direction is kept if its step size is at least this factor times the
+/// previous one's.
+const CORRECTOR_GAIN: f64 = 1.1;
+
 /// Margin factor of the obj-constr-filter μ globalisation (IPOPT `filter_margin_fact`).
 const MU_FILTER_MARGIN: f64 = 1e-5;
 /// Largest barrier parameter of the adaptive strategy.
@@ -385,11 +395,13 @@ fn fixed_mode_mu(st: &State, floor: f64) -> f64 {
 /// Right-hand side of the condensed KKT system at barrier parameter μ: first block
 /// −(∇f + Jᵀλ − μ/(x−L) + μ/(U−x)) (zero for fixed variables), then −r on rows without a
 /// slack and −r − r_s/σ on slack rows; `r_s` receives the slack residuals −λ + barrier
-/// terms. Affine in μ.
+/// terms. Affine in μ. With `targets` (t_L, t_U), bound j's complementarity target is
+/// μ + t_L[j] (μ + t_U[j]) instead of μ (centrality correctors).
 #[allow(clippy::too_many_arguments)]
 fn newton_rhs(
     st: &State,
     mu: f64,
+    targets: Option<(&[f64], &[f64])>,
     r: &[f64],
     jac_rows: &[usize],
     jac_cols: &[usize],
@@ -404,12 +416,16 @@ fn newton_rhs(
         rhs[jac_cols[k]] += st.jv[k] * st.lam[jac_rows[k]];
     }
     for j in 0..st.big_n {
+        let (ml, mu_u) = match targets {
+            Some((tl, tu)) => (mu + tl[j], mu + tu[j]),
+            None => (mu, mu),
+        };
         let mut b = 0.0;
         if st.has_l[j] {
-            b -= mu / (st.w[j] - st.wl[j]);
+            b -= ml / (st.w[j] - st.wl[j]);
         }
         if st.has_u[j] {
-            b += mu / (st.wu[j] - st.w[j]);
+            b += mu_u / (st.wu[j] - st.w[j]);
         }
         if j < n {
             rhs[j] = if fixed_x[j] { 0.0 } else { -(rhs[j] + b) };
@@ -489,6 +505,74 @@ fn bound_multiplier_steps(st: &State, mu: f64, dw: &[f64], dzl: &mut [f64], dzu:
             0.0
         };
     }
+}
+
+/// Adds the parts of the bound-multiplier steps that come from the complementarity targets
+/// μ + t_L, μ + t_U beyond μ (centrality correctors): t_L/(w − L), t_U/(U − w).
+fn add_target_multiplier_steps(
+    st: &State,
+    tl: &[f64],
+    tu: &[f64],
+    dzl: &mut [f64],
+    dzu: &mut [f64],
+) {
+    for j in 0..st.big_n {
+        if st.has_l[j] {
+            dzl[j] += tl[j] / (st.w[j] - st.wl[j]);
+        }
+        if st.has_u[j] {
+            dzu[j] += tu[j] / (st.wu[j] - st.w[j]);
+        }
+    }
+}
+
+/// Complementarity targets of Gondzio's centrality correction for the step `dw`, `dzl`,
+/// `dzu` taken with the enlarged step sizes (ap, ad): each trial product
+/// (w + ap dw − L)(z_L + ad dz_L) is moved into [β_min μ, β_max μ] by adding the difference to
+/// that bound's target (a decrease by at most β_max μ). Returns the number of products
+/// outside the box.
+#[allow(clippy::too_many_arguments)]
+fn centrality_targets(
+    st: &State,
+    mu: f64,
+    dw: &[f64],
+    dzl: &[f64],
+    dzu: &[f64],
+    ap: f64,
+    ad: f64,
+    tl: &mut [f64],
+    tu: &mut [f64],
+) -> usize {
+    let (lo, hi) = (CORRECTOR_BETA_MIN * mu, CORRECTOR_BETA_MAX * mu);
+    let shift = |v: f64| -> f64 {
+        if v < lo {
+            lo - v
+        } else if v > hi {
+            (hi - v).max(-hi)
+        } else {
+            0.0
+        }
+    };
+    let mut outside = 0usize;
+    for j in 0..st.big_n {
+        if st.has_l[j] {
+            let v = (st.w[j] + ap * dw[j] - st.wl[j]) * (st.zl[j] + ad * dzl[j]);
+            let d = shift(v);
+            if d != 0.0 {
+                outside += 1;
+                tl[j] += d;
+            }
+        }
+        if st.has_u[j] {
+            let v = (st.wu[j] - st.w[j] - ap * dw[j]) * (st.zu[j] + ad * dzu[j]);
+            let d = shift(v);
+            if d != 0.0 {
+                outside += 1;
+                tu[j] += d;
+            }
+        }
+    }
+    outside
 }
 
 /// res = b − K_true x for the KKT matrix K_reg (lower CSC values `vals`) whose constraint
@@ -878,6 +962,21 @@ pub fn solve(
     let mut dzu = vec![0.0; big_n];
     let mut wt = vec![0.0; big_n];
     let mut ct = vec![0.0; m];
+    // centrality correctors: complementarity targets beyond μ and the trial direction
+    let corr_len = if options.centrality_correctors > 0 {
+        big_n
+    } else {
+        0
+    };
+    let (mut tl, mut tu) = (vec![0.0; corr_len], vec![0.0; corr_len]);
+    let (mut tl_c, mut tu_c) = (vec![0.0; corr_len], vec![0.0; corr_len]);
+    let (mut dw_c, mut dzl_c, mut dzu_c) = (
+        vec![0.0; corr_len],
+        vec![0.0; corr_len],
+        vec![0.0; corr_len],
+    );
+    let mut dlam_c = vec![0.0; if corr_len > 0 { m } else { 0 }];
+    let mut correctors_kept = 0usize;
     let mut rt = vec![0.0; m];
     let mut lbfgs = match options.hessian {
         HessianMode::LimitedMemory { history } => Some(Lbfgs::new(history)),
@@ -1351,6 +1450,7 @@ pub fn solve(
                     newton_rhs(
                         &st,
                         mu_c,
+                        None,
                         &r,
                         &jac_rows,
                         &jac_cols,
@@ -1400,6 +1500,7 @@ pub fn solve(
         let d_c_reg = &d_c_reg_buf;
         let mut direction = |st: &State,
                              mu: f64,
+                             targets: Option<(&[f64], &[f64])>,
                              r: &[f64],
                              rhs: &mut [f64],
                              dw: &mut [f64],
@@ -1407,7 +1508,7 @@ pub fn solve(
                              lin_time: &mut Duration|
          -> Result<(), SolveError> {
             newton_rhs(
-                st, mu, r, &jac_rows, &jac_cols, &fixed_x, &sigma, rhs, &mut r_s,
+                st, mu, targets, r, &jac_rows, &jac_cols, &fixed_x, &sigma, rhs, &mut r_s,
             );
             let t = Instant::now();
             b_save.copy_from_slice(rhs);
@@ -1458,6 +1559,7 @@ pub fn solve(
                 direction(
                     &st,
                     0.0,
+                    None,
                     &r,
                     &mut rhs,
                     &mut dw_aff,
@@ -1467,6 +1569,7 @@ pub fn solve(
                 direction(
                     &st,
                     avg,
+                    None,
                     &r,
                     &mut rhs,
                     &mut dw_avg,
@@ -1496,7 +1599,16 @@ pub fn solve(
                 dw.copy_from_slice(&dw_aff);
                 dlam.copy_from_slice(&dlam_aff);
             } else {
-                direction(&st, 0.0, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+                direction(
+                    &st,
+                    0.0,
+                    None,
+                    &r,
+                    &mut rhs,
+                    &mut dw,
+                    &mut dlam,
+                    &mut lin_time,
+                )?;
             }
             bound_multiplier_steps(&st, 0.0, &dw, &mut dzl, &mut dzu);
             let ap = fraction_to_boundary(&st, &st.w, &dw, 1.0);
@@ -1525,7 +1637,77 @@ pub fn solve(
         }
         tau = (1.0 - mu).max(0.99);
         if !direction_ready {
-            direction(&st, mu, &r, &mut rhs, &mut dw, &mut dlam, &mut lin_time)?;
+            direction(
+                &st,
+                mu,
+                None,
+                &r,
+                &mut rhs,
+                &mut dw,
+                &mut dlam,
+                &mut lin_time,
+            )?;
+        }
+
+        // ---- centrality correctors (Gondzio 1996) ------------------------------------------
+        // The step is cut by the fraction-to-boundary rule when some complementarity
+        // products would leave the neighbourhood of μ; each corrector moves the targets of
+        // those products back into [β_min μ, β_max μ] at an enlarged step size and solves
+        // again with the same factorisation, and is kept only if the step size grows.
+        let mut targets_on = false;
+        if options.centrality_correctors > 0 && mu > 0.0 {
+            tl.fill(0.0);
+            tu.fill(0.0);
+            bound_multiplier_steps(&st, mu, &dw, &mut dzl, &mut dzu);
+            let mut ap = fraction_to_boundary(&st, &st.w, &dw, tau);
+            let mut ad = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
+            for _ in 0..options.centrality_correctors {
+                let a = ap.min(ad);
+                if a >= 1.0 {
+                    break;
+                }
+                let aim_p = (CORRECTOR_AIM_FACTOR * ap + CORRECTOR_AIM_ADD).min(1.0);
+                let aim_d = (CORRECTOR_AIM_FACTOR * ad + CORRECTOR_AIM_ADD).min(1.0);
+                tl_c.copy_from_slice(&tl);
+                tu_c.copy_from_slice(&tu);
+                let outside = centrality_targets(
+                    &st, mu, &dw, &dzl, &dzu, aim_p, aim_d, &mut tl_c, &mut tu_c,
+                );
+                if outside == 0 {
+                    break;
+                }
+                direction(
+                    &st,
+                    mu,
+                    Some((&tl_c, &tu_c)),
+                    &r,
+                    &mut rhs,
+                    &mut dw_c,
+                    &mut dlam_c,
+                    &mut lin_time,
+                )?;
+                bound_multiplier_steps(&st, mu, &dw_c, &mut dzl_c, &mut dzu_c);
+                add_target_multiplier_steps(&st, &tl_c, &tu_c, &mut dzl_c, &mut dzu_c);
+                let ap_c = fraction_to_boundary(&st, &st.w, &dw_c, tau);
+                let ad_c = dual_fraction_to_boundary(&st, &dzl_c, &dzu_c, tau);
+                if debug {
+                    eprintln!(
+                        "    corrector: {outside} products outside, alpha {ap:.3e}/{ad:.3e} -> {ap_c:.3e}/{ad_c:.3e}"
+                    );
+                }
+                if ap_c.min(ad_c) < CORRECTOR_GAIN * a {
+                    break;
+                }
+                std::mem::swap(&mut dw, &mut dw_c);
+                std::mem::swap(&mut dlam, &mut dlam_c);
+                std::mem::swap(&mut dzl, &mut dzl_c);
+                std::mem::swap(&mut dzu, &mut dzu_c);
+                std::mem::swap(&mut tl, &mut tl_c);
+                std::mem::swap(&mut tu, &mut tu_c);
+                (ap, ad) = (ap_c, ad_c);
+                targets_on = true;
+                correctors_kept += 1;
+            }
         }
         let mut alpha_max = fraction_to_boundary(&st, &st.w, &dw, tau);
 
@@ -1627,6 +1809,8 @@ pub fn solve(
                     st.hv = hv;
                     dw.copy_from_slice(&wd.dw);
                     dlam.copy_from_slice(&wd.dlam);
+                    // the stored direction's bound-multiplier steps are taken at μ alone
+                    targets_on = false;
                     reference = wd.reference;
                     alpha_max = wd.alpha_max;
                     alpha_min = wd.alpha_min;
@@ -1681,6 +1865,7 @@ pub fn solve(
                     direction(
                         &st,
                         mu,
+                        targets_on.then_some((&tl[..], &tu[..])),
                         &soc_rhs_r,
                         &mut rhs,
                         &mut dw_soc,
@@ -1734,6 +1919,9 @@ pub fn solve(
             shortened_steps = 0;
         }
         bound_multiplier_steps(&st, mu, &dw, &mut dzl, &mut dzu);
+        if targets_on {
+            add_target_multiplier_steps(&st, &tl, &tu, &mut dzl, &mut dzu);
+        }
         let mut alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
         // ---- soft restoration (IPOPT): before the feasibility restoration, take the
         // primal-dual step to the fraction-to-boundary limits if it reduces the primal-dual
@@ -1985,11 +2173,12 @@ pub fn solve(
     };
     if options.print_level >= 1 {
         eprintln!(
-            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps, watchdog {} started / {} returned{}), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s of which {} factorisations {:.3} s)",
+            "stride-ipm: {:?} after {} iterations ({} restorations, {} soft-restoration steps, {} centrality correctors, watchdog {} started / {} returned{}), f = {:.10e}, |c| = {:.2e}, total {:.3} s (eval {:.3} s, linear {:.3} s of which {} factorisations {:.3} s)",
             result.status,
             result.iterations,
             restorations,
             soft_steps,
+            correctors_kept,
             watchdog_starts,
             watchdog_returns,
             exact_from.map_or(String::new(), |k| format!(", exact Hessian from iteration {k}")),

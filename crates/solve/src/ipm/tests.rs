@@ -104,8 +104,23 @@ fn all_options() -> Vec<(&'static str, SolverOptions)> {
         mu_strategy: MuStrategy::Adaptive,
         ..SolverOptions::default()
     };
+    // centrality correctors on every iteration whose step is cut
+    let correctors = SolverOptions {
+        mu_strategy: MuStrategy::Adaptive,
+        centrality_correctors: 3,
+        ..SolverOptions::default()
+    };
+    let lbfgs_correctors = SolverOptions {
+        hessian: HessianMode::LimitedMemory { history: 6 },
+        max_iter: 500,
+        mu_strategy: MuStrategy::Adaptive,
+        centrality_correctors: 3,
+        ..SolverOptions::default()
+    };
     vec![
         ("exact", exact),
+        ("adaptive-correctors-3", correctors),
+        ("l-bfgs-correctors-3", lbfgs_correctors),
         ("l-bfgs-adaptive", lbfgs_adaptive),
         ("adaptive-quality-function", adaptive_quality),
         ("adaptive-filter", adaptive_filter),

@@ -62,7 +62,7 @@ pub fn ipopt_options(
     linear_solver: &str,
 ) -> Result<Vec<(&'static str, OptionValue)>, SolveError> {
     use OptionValue::{Int, Num, Str};
-    super::setup::reject_exact_tail(o, "IPOPT")?;
+    super::setup::reject_ipm_only(o, "IPOPT")?;
     let int = |name: &'static str, v: usize| {
         i32::try_from(v).map_err(|_| SolveError::InvalidOption {
             name,
