@@ -303,7 +303,7 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
     let exe = std::env::current_exe().context("locating the stride executable")?;
     println!(
         "## Nominal prediction (1.33 m/s, {} mesh intervals, tol 1e-4, adaptive μ, max {} iterations, {}); \
-         one child process per case\n",
+         one child process per case, one thread (evaluations and linear algebra)\n",
         a.mesh,
         a.max_iter,
         a.time_limit

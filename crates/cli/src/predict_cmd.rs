@@ -239,7 +239,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| "ipm".into());
     let solver = backend(&backend_name)?;
     let hessian = parse_hessian(args.hessian.or(s.hessian.clone()).as_deref(), &backend_name)?;
-    let options = prediction_options(
+    let mut options = prediction_options(
         args.tol.or(s.tol),
         args.max_iter.or(s.max_iter),
         hessian,
@@ -247,6 +247,9 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         args.correctors.or(s.centrality_correctors),
     )?;
     check_correctors(&options, &backend_name)?;
+    // the guesses are solved at the same time: the cores are shared out between them
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    options.threads = (cores / guesses.len()).max(1);
     let model = match args.model.or(study.model) {
         Some(p) => stride_model::osim::load_osim(&p)
             .with_context(|| format!("loading model {}", p.display()))?,

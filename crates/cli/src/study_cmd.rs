@@ -23,7 +23,7 @@ pub struct StudyArgs {
     /// Cases solved at the same time (overrides `[study] jobs`).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Solver threads per case (overrides `[study] threads_per_case`).
+    /// Evaluation threads per case (overrides `[study] threads_per_case`).
     #[arg(long)]
     pub threads: Option<usize>,
     /// Iteration limit per case (overrides `[study.solver] max_iter`).

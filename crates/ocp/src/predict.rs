@@ -162,8 +162,25 @@ pub fn transcribe(
     Ok(Transcription::new(problem, tape, x0))
 }
 
-/// Solve `model` with `settings` from each guess with `solver`; `progress` receives every
-/// iteration of every guess.
+/// Runs `f` (a solve) with `threads` worker threads for the node-function evaluations (a
+/// rayon pool of that size; 0: rayon's global pool, one thread per core).
+pub fn with_threads<R: Send>(
+    threads: usize,
+    f: impl FnOnce() -> R + Send,
+) -> Result<R, PredictError> {
+    if threads == 0 {
+        return Ok(f());
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| PredictError::Solver(format!("thread pool of {threads} threads: {e}")))?;
+    Ok(pool.install(f))
+}
+
+/// Solve `model` with `settings` from each guess with `solver`, the guesses at the same time,
+/// each with `options.threads` evaluation threads; `progress` receives every iteration of
+/// every guess.
 pub fn solve_guesses(
     model: &Model,
     settings: &ProblemSettings,
@@ -189,12 +206,13 @@ pub fn solve_guesses(
             .map(|(&g, x0)| {
                 let tr = Transcription::new(problem.clone(), tape.clone(), x0);
                 scope.spawn(move || {
-                    let r = solver
-                        .solve(&tr, options, &mut |rec| {
+                    let r = with_threads(options.threads, || {
+                        solver.solve(&tr, options, &mut |rec| {
                             progress(g, rec);
                             ControlFlow::Continue(())
                         })
-                        .map_err(|e| PredictError::Solver(e.to_string()))?;
+                    })?
+                    .map_err(|e| PredictError::Solver(e.to_string()))?;
                     Ok(Solved {
                         report: GuessReport::new(g, &r),
                         result: r,
@@ -451,4 +469,20 @@ fn write_cycle(
         write_atomic(&p, &bytes).map_err(|e| write_err(&p, e))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::with_threads;
+
+    #[test]
+    fn a_solve_runs_with_the_threads_asked_for() {
+        for n in [1, 3] {
+            let seen = with_threads(n, rayon::current_num_threads).unwrap();
+            assert_eq!(seen, n);
+        }
+        // 0: the global pool, one thread per core
+        let global = rayon::current_num_threads();
+        assert_eq!(with_threads(0, rayon::current_num_threads).unwrap(), global);
+    }
 }

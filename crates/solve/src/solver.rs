@@ -144,7 +144,9 @@ pub struct SolverOptions {
     pub nlp_scaling_max_gradient: f64,
     /// Bound push/frac for moving the initial point into the interior (default 1e-2).
     pub bound_push: f64,
-    /// Threads the solver may use for its own linear algebra (0 = library default).
+    /// Worker threads for the problem's function evaluations during a solve: stride's
+    /// predictions and studies run each solve in a thread pool of this size (0: one thread
+    /// per core). The backends' KKT factorisations run on one thread.
     pub threads: usize,
 }
 

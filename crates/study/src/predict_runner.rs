@@ -100,13 +100,14 @@ impl PredictRunner {
         let node = NodeModel::new(problem).map_err(err)?;
         let tape = Arc::new(TapeNode::for_problem(problem, &node, &x0).map_err(err)?);
         let tr = Transcription::new(problem.clone(), tape, x0);
-        let r = self
-            .solver
-            .solve(&tr, &self.options, &mut |rec| {
+        let r = predict::with_threads(self.options.threads, || {
+            self.solver.solve(&tr, &self.options, &mut |rec| {
                 progress(rec.iter);
                 ControlFlow::Continue(())
             })
-            .map_err(|e| format!("solver: {e}"))?;
+        })
+        .map_err(err)?
+        .map_err(|e| format!("solver: {e}"))?;
         Ok(Solved {
             report: GuessReport::new(label, &r),
             result: r,

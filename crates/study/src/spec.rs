@@ -76,7 +76,7 @@ pub struct StudyHeader {
     /// Cases solved at the same time.
     #[serde(default = "one")]
     pub jobs: usize,
-    /// Solver threads per case.
+    /// Threads per case for the function evaluations (the KKT factorisation uses one).
     #[serde(default = "one")]
     pub threads_per_case: usize,
     /// OpenSim model file (default: the built-in subject model).
