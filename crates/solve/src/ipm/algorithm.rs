@@ -489,40 +489,32 @@ fn barrier_directional_derivative(st: &State, mu: f64, dw: &[f64]) -> f64 {
     g
 }
 
-/// Primal-dual steps of the bound multipliers for the primal step `dw`.
-fn bound_multiplier_steps(st: &State, mu: f64, dw: &[f64], dzl: &mut [f64], dzu: &mut [f64]) {
+/// Primal-dual steps of the bound multipliers for the primal step `dw`; with `targets`
+/// (t_L, t_U) the complementarity targets are μ + t_L[j], μ + t_U[j] (centrality
+/// correctors), as in [`newton_rhs`].
+fn bound_multiplier_steps(
+    st: &State,
+    mu: f64,
+    targets: Option<(&[f64], &[f64])>,
+    dw: &[f64],
+    dzl: &mut [f64],
+    dzu: &mut [f64],
+) {
     for j in 0..st.big_n {
         dzl[j] = if st.has_l[j] {
             let sl = st.w[j] - st.wl[j];
-            mu / sl - st.zl[j] - st.zl[j] / sl * dw[j]
+            let d = mu / sl - st.zl[j] - st.zl[j] / sl * dw[j];
+            targets.map_or(d, |(tl, _)| d + tl[j] / sl)
         } else {
             0.0
         };
         dzu[j] = if st.has_u[j] {
             let su = st.wu[j] - st.w[j];
-            mu / su - st.zu[j] + st.zu[j] / su * dw[j]
+            let d = mu / su - st.zu[j] + st.zu[j] / su * dw[j];
+            targets.map_or(d, |(_, tu)| d + tu[j] / su)
         } else {
             0.0
         };
-    }
-}
-
-/// Adds the parts of the bound-multiplier steps that come from the complementarity targets
-/// μ + t_L, μ + t_U beyond μ (centrality correctors): t_L/(w − L), t_U/(U − w).
-fn add_target_multiplier_steps(
-    st: &State,
-    tl: &[f64],
-    tu: &[f64],
-    dzl: &mut [f64],
-    dzu: &mut [f64],
-) {
-    for j in 0..st.big_n {
-        if st.has_l[j] {
-            dzl[j] += tl[j] / (st.w[j] - st.wl[j]);
-        }
-        if st.has_u[j] {
-            dzu[j] += tu[j] / (st.wu[j] - st.w[j]);
-        }
     }
 }
 
@@ -1581,7 +1573,7 @@ pub fn solve(
             let (primal2, dual2) = st.mean_squared_infeasibilities(&gl, &r);
             let quality = |sigma: f64| -> f64 {
                 combine(&dw_aff, &dw_avg, sigma, &mut dw);
-                bound_multiplier_steps(&st, sigma * avg, &dw, &mut dzl, &mut dzu);
+                bound_multiplier_steps(&st, sigma * avg, None, &dw, &mut dzl, &mut dzu);
                 let ap = fraction_to_boundary(&st, &st.w, &dw, tau_q);
                 let ad = dual_fraction_to_boundary(&st, &dzl, &dzu, tau_q);
                 let c2 = st.complementarity_after_step(&dw, &dzl, &dzu, ap, ad).1;
@@ -1610,7 +1602,7 @@ pub fn solve(
                     &mut lin_time,
                 )?;
             }
-            bound_multiplier_steps(&st, 0.0, &dw, &mut dzl, &mut dzu);
+            bound_multiplier_steps(&st, 0.0, None, &dw, &mut dzl, &mut dzu);
             let ap = fraction_to_boundary(&st, &st.w, &dw, 1.0);
             let ad = dual_fraction_to_boundary(&st, &dzl, &dzu, 1.0);
             if avg > 0.0 {
@@ -1658,7 +1650,7 @@ pub fn solve(
         if options.centrality_correctors > 0 && mu > 0.0 {
             tl.fill(0.0);
             tu.fill(0.0);
-            bound_multiplier_steps(&st, mu, &dw, &mut dzl, &mut dzu);
+            bound_multiplier_steps(&st, mu, None, &dw, &mut dzl, &mut dzu);
             let mut ap = fraction_to_boundary(&st, &st.w, &dw, tau);
             let mut ad = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
             for _ in 0..options.centrality_correctors {
@@ -1676,18 +1668,18 @@ pub fn solve(
                 if outside == 0 {
                     break;
                 }
+                let targets_c = Some((&tl_c[..], &tu_c[..]));
                 direction(
                     &st,
                     mu,
-                    Some((&tl_c, &tu_c)),
+                    targets_c,
                     &r,
                     &mut rhs,
                     &mut dw_c,
                     &mut dlam_c,
                     &mut lin_time,
                 )?;
-                bound_multiplier_steps(&st, mu, &dw_c, &mut dzl_c, &mut dzu_c);
-                add_target_multiplier_steps(&st, &tl_c, &tu_c, &mut dzl_c, &mut dzu_c);
+                bound_multiplier_steps(&st, mu, targets_c, &dw_c, &mut dzl_c, &mut dzu_c);
                 let ap_c = fraction_to_boundary(&st, &st.w, &dw_c, tau);
                 let ad_c = dual_fraction_to_boundary(&st, &dzl_c, &dzu_c, tau);
                 if debug {
@@ -1918,10 +1910,8 @@ pub fn solve(
         } else {
             shortened_steps = 0;
         }
-        bound_multiplier_steps(&st, mu, &dw, &mut dzl, &mut dzu);
-        if targets_on {
-            add_target_multiplier_steps(&st, &tl, &tu, &mut dzl, &mut dzu);
-        }
+        let targets = targets_on.then_some((&tl[..], &tu[..]));
+        bound_multiplier_steps(&st, mu, targets, &dw, &mut dzl, &mut dzu);
         let mut alpha_z = dual_fraction_to_boundary(&st, &dzl, &dzu, tau);
         // ---- soft restoration (IPOPT): before the feasibility restoration, take the
         // primal-dual step to the fraction-to-boundary limits if it reduces the primal-dual
