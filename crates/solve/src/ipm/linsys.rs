@@ -514,6 +514,72 @@ impl KktSolver for FaerLblt {
     }
 }
 
+/// Calls, right-hand-side columns, time and factor size of a KKT solver's solves, for the
+/// solver's summary of where the linear-algebra time goes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SolveCounts {
+    /// Triangular-solve calls (one pass over the factor each).
+    pub calls: usize,
+    /// Right-hand sides solved for, summed over the calls.
+    pub columns: usize,
+    /// Wall time in the solves, s.
+    pub seconds: f64,
+}
+
+/// A KKT solver that counts the solves of the one it wraps.
+pub struct Counted<'a> {
+    inner: &'a mut dyn KktSolver,
+    /// Solves so far.
+    pub counts: SolveCounts,
+}
+
+impl<'a> Counted<'a> {
+    /// Wraps `inner` with zero counts.
+    pub fn new(inner: &'a mut dyn KktSolver) -> Self {
+        Counted {
+            inner,
+            counts: SolveCounts::default(),
+        }
+    }
+}
+
+impl KktSolver for Counted<'_> {
+    fn name(&self) -> &str {
+        self.inner.name()
+    }
+
+    fn analyse(
+        &mut self,
+        dim: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        ordering: Option<&[usize]>,
+    ) -> Result<(), LinearSolverError> {
+        self.inner.analyse(dim, col_ptr, row_idx, ordering)
+    }
+
+    fn factor(&mut self, values: &[f64]) -> Result<Inertia, LinearSolverError> {
+        self.inner.factor(values)
+    }
+
+    fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearSolverError> {
+        self.solve_many(rhs, 1)
+    }
+
+    fn solve_many(&mut self, rhs: &mut [f64], ncols: usize) -> Result<(), LinearSolverError> {
+        let t = std::time::Instant::now();
+        let res = self.inner.solve_many(rhs, ncols);
+        self.counts.calls += 1;
+        self.counts.columns += ncols;
+        self.counts.seconds += t.elapsed().as_secs_f64();
+        res
+    }
+
+    fn factor_nnz(&self) -> usize {
+        self.inner.factor_nnz()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -558,6 +624,31 @@ mod tests {
         for (got, want) in b.iter().zip(xs.iter().flatten()) {
             assert!((got - want).abs() < 1e-12, "{got} vs {want}");
         }
+    }
+
+    #[test]
+    fn counted_solver_counts_calls_and_columns_and_solves_the_same() {
+        let col_ptr = [0, 3, 5, 6];
+        let row_idx = [0, 1, 2, 1, 2, 2];
+        let vals = [4.0, 1.0, 1.0, 3.0, 2.0, -1.0];
+        let mut inner = FaerLdlt::new();
+        let mut s = Counted::new(&mut inner);
+        s.analyse(3, &col_ptr, &row_idx, None).unwrap();
+        s.factor(&vals).unwrap();
+        let mut b = [9.0, 13.0, 2.0];
+        s.solve(&mut b).unwrap();
+        let mut bb = [9.0, 13.0, 2.0, 9.0, 13.0, 2.0];
+        s.solve_many(&mut bb, 2).unwrap();
+        assert_eq!((s.counts.calls, s.counts.columns), (2, 3));
+        assert!(s.counts.seconds >= 0.0);
+        assert_eq!(s.factor_nnz(), inner_nnz(&s));
+        for (got, want) in b.iter().chain(&bb).zip([1.0, 2.0, 3.0].iter().cycle()) {
+            assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        }
+    }
+
+    fn inner_nnz(s: &Counted) -> usize {
+        s.inner.factor_nnz()
     }
 
     #[test]
