@@ -251,6 +251,10 @@ pub struct KktOrderingTimes {
     pub kkt_nnz: usize,
     /// Nonzeros of the factor L.
     pub l_nnz: usize,
+    /// Supernodes of the factor (columns if faer chose the simplicial factorisation).
+    pub supernodes: usize,
+    /// Floating-point operations of one numeric factorisation.
+    pub flops: f64,
     /// Ordering and symbolic analysis (once per solve).
     pub analyse: Duration,
     /// Median numeric LDLᵀ factorisation.
@@ -349,10 +353,13 @@ pub fn kkt(model: &Model, settings: &ProblemSettings, reps: usize) -> Result<Kkt
             solver.solve_many(&mut rhs, 12).map_err(linear)?;
             solve12.push(t.elapsed());
         }
+        let stats = solver.factor_stats().unwrap_or((0, 0.0));
         orderings.push(KktOrderingTimes {
             name,
             kkt_nnz: pattern.nnz(),
             l_nnz: solver.factor_nnz(),
+            supernodes: stats.0,
+            flops: stats.1,
             analyse,
             factor: median(factor),
             solve1: median(solve1),
@@ -372,19 +379,22 @@ pub fn kkt_table(b: &KktBench) -> String {
     let mut s = format!(
         "## Limited-memory KKT matrix of the gait NLP ({} mesh intervals, dimension {}; \
          faer supernodal LDLᵀ, one thread; median of {})\n\n\
-         | ordering | KKT nnz | L nnz | ordering + symbolic s | factorisation s | solve, 1 right-hand side s | solve, 12 right-hand sides s |\n\
-         |---|---|---|---|---|---|---|\n",
+         | ordering | KKT nnz | L nnz | supernodes | factorisation GFLOP | ordering + symbolic s | factorisation s | GFLOP/s | solve, 1 right-hand side s | solve, 12 right-hand sides s |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
         b.mesh_intervals, b.dim, b.reps
     );
     for o in &b.orderings {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} |",
+            "| {} | {} | {} | {} | {:.2} | {:.3} | {:.3} | {:.1} | {:.3} | {:.3} |",
             o.name,
             o.kkt_nnz,
             o.l_nnz,
+            o.supernodes,
+            o.flops * 1e-9,
             o.analyse.as_secs_f64(),
             o.factor.as_secs_f64(),
+            o.flops * 1e-9 / o.factor.as_secs_f64().max(1e-12),
             o.solve1.as_secs_f64(),
             o.solve12.as_secs_f64()
         );

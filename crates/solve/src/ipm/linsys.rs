@@ -144,6 +144,39 @@ impl FaerLdlt {
         Self::default()
     }
 
+    /// Supernodes (columns, for a simplicial factor) and floating-point operations of one
+    /// numeric factorisation (Σ over columns of the squared count of entries below the
+    /// diagonal, the usual Cholesky count), or None before `analyse`.
+    pub fn factor_stats(&self) -> Option<(usize, f64)> {
+        let sym = self.symbolic.as_ref()?;
+        let mut flops = 0.0;
+        let units = match sym.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                for k in 0..s.n_supernodes() {
+                    let node = s.supernode(k);
+                    let below = node.pattern().len() as f64;
+                    let ncols = (s.supernode_end()[k] - s.supernode_begin()[k]) as f64;
+                    // column j of the supernode has (ncols − 1 − j) + below entries below
+                    // its diagonal
+                    for j in 0..ncols as usize {
+                        let c = ncols - 1.0 - j as f64 + below;
+                        flops += c * c;
+                    }
+                }
+                s.n_supernodes()
+            }
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let cp = s.col_ptr();
+                for j in 0..s.ncols() {
+                    let c = (cp[j + 1] - cp[j]).saturating_sub(1) as f64;
+                    flops += c * c;
+                }
+                s.ncols()
+            }
+        };
+        Some((units, flops))
+    }
+
     fn inertia_of_d(&self) -> Inertia {
         let mut inertia = Inertia::default();
         let mut count = |d: f64| {
@@ -624,6 +657,19 @@ mod tests {
         for (got, want) in b.iter().zip(xs.iter().flatten()) {
             assert!((got - want).abs() < 1e-12, "{got} vs {want}");
         }
+    }
+
+    #[test]
+    fn factor_statistics_count_the_cholesky_operations() {
+        // dense 3 × 3 pattern: columns of L have 2, 1, 0 entries below the diagonal
+        let col_ptr = [0, 3, 5, 6];
+        let row_idx = [0, 1, 2, 1, 2, 2];
+        let mut s = FaerLdlt::new();
+        assert!(s.factor_stats().is_none());
+        s.analyse(3, &col_ptr, &row_idx, None).unwrap();
+        let (units, flops) = s.factor_stats().unwrap();
+        assert_eq!(flops, 4.0 + 1.0);
+        assert!((1..=3).contains(&units));
     }
 
     #[test]
