@@ -147,6 +147,12 @@ pub struct CaseReport {
     pub time_evaluations_s: f64,
     /// Time in the KKT linear solver [s] (None: the backend does not report it).
     pub time_linear_solver_s: Option<f64>,
+    /// Time in the numeric KKT factorisations [s] (None: not reported).
+    #[serde(default)]
+    pub time_factorisation_s: Option<f64>,
+    /// Time in the triangular solves with the KKT factor [s] (None: not reported).
+    #[serde(default)]
+    pub time_solves_s: Option<f64>,
     /// Resident-set high-water mark of the process [KiB] (None: not on Linux).
     pub peak_rss_kib: Option<u64>,
 }
@@ -310,9 +316,9 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
             .map_or("no time limit".into(), |t| format!("{t} s limit"))
     );
     println!(
-        "| backend | Hessian | guess | status | iterations | objective | process s | solve s | evaluations s | solver s | of which linear s | peak RSS MiB |"
+        "| backend | Hessian | guess | status | iterations | objective | process s | solve s | evaluations s | solver s | of which linear s | factorisations s | solves s | peak RSS MiB |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     std::io::stdout().flush()?;
     for c in &cases {
         let mut cmd = Command::new(&exe);
@@ -339,7 +345,7 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
             Some(r) if out.status.success() => {
                 let f2 = |v: f64| format!("{v:.2}");
                 println!(
-                    "{lead} {} | {} | {:.6} | {} | {} | {} | {} | {} | {} |",
+                    "{lead} {} | {} | {:.6} | {} | {} | {} | {} | {} | {} | {} | {} |",
                     r.status,
                     r.iterations,
                     r.objective,
@@ -348,6 +354,8 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
                     f2(r.time_evaluations_s),
                     f2(r.time_total_s - r.time_evaluations_s),
                     r.time_linear_solver_s.map_or("n/a".into(), f2),
+                    r.time_factorisation_s.map_or("n/a".into(), f2),
+                    r.time_solves_s.map_or("n/a".into(), f2),
                     r.peak_rss_kib
                         .map_or("n/a".into(), |k| format!("{:.0}", k as f64 / 1024.0)),
                 );
@@ -361,7 +369,7 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
                     .unwrap_or("no output")
                     .replace('|', "/");
                 println!(
-                    "{lead} failed ({}): {why} | | | {process_s:.2} | | | | | |",
+                    "{lead} failed ({}): {why} | | | {process_s:.2} | | | | | | | |",
                     out.status
                 );
             }
@@ -409,6 +417,8 @@ fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
         time_total_s: s.report.time_total_s,
         time_evaluations_s: s.report.time_evaluations_s,
         time_linear_solver_s: r.reported_linear_solver_time().map(|d| d.as_secs_f64()),
+        time_factorisation_s: s.report.time_factorisation_s,
+        time_solves_s: s.report.time_solves_s,
         peak_rss_kib: peak_rss_kib(),
     };
     println!("{}", serde_json::to_string(&report)?);

@@ -830,6 +830,8 @@ mod tests {
             time_linear_solver: Duration::ZERO,
             time_symbolic: Duration::ZERO,
             time_factorisation: Duration::ZERO,
+            solves: 0,
+            time_solves: Duration::ZERO,
             factorizations: 0,
             objective_evaluations: 0,
             exact_hessian_from: None,

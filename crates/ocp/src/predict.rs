@@ -68,6 +68,9 @@ pub struct GuessReport {
     /// Time in the numeric KKT factorisations, part of the linear-solver time [s] (absent
     /// when the backend does not report it).
     pub time_factorisation_s: Option<f64>,
+    /// Time in the triangular solves with the KKT factor, part of the linear-solver time
+    /// [s] (absent when the backend does not report it).
+    pub time_solves_s: Option<f64>,
     /// Iteration from which the exact Hessian replaced the limited-memory one (hybrid
     /// mode); absent when it never did.
     pub exact_hessian_from: Option<usize>,
@@ -92,6 +95,7 @@ impl GuessReport {
             time_linear_solver_s: r.reported_linear_solver_time().map(|t| t.as_secs_f64()),
             time_factorisation_s: (!r.time_factorisation.is_zero())
                 .then_some(r.time_factorisation.as_secs_f64()),
+            time_solves_s: (r.solves > 0).then_some(r.time_solves.as_secs_f64()),
             exact_hessian_from: r.exact_hessian_from,
         }
     }

@@ -38,6 +38,8 @@ fn results_are_valid_storage_files() {
         time_linear_solver: Duration::ZERO,
         time_symbolic: Duration::ZERO,
         time_factorisation: Duration::ZERO,
+        solves: 0,
+        time_solves: Duration::ZERO,
         factorizations: 0,
         objective_evaluations: 0,
         exact_hessian_from: None,

@@ -295,6 +295,13 @@ pub struct SolveResult {
     /// Time spent in the numeric KKT factorisations (part of `time_linear_solver`; zero when
     /// the backend does not report it).
     pub time_factorisation: Duration,
+    /// Triangular solves with the KKT factor (one pass over the factor each, for one or
+    /// several right-hand sides); 0 when the backend does not report them.
+    #[serde(default)]
+    pub solves: usize,
+    /// Time in those solves (part of `time_linear_solver`; zero when not reported).
+    #[serde(default)]
+    pub time_solves: Duration,
     /// Number of objective evaluations.
     pub objective_evaluations: usize,
     /// Iteration from which the exact Hessian replaced the limited-memory one

@@ -2241,6 +2241,8 @@ pub fn solve(
         time_linear_solver: lin_time,
         time_symbolic,
         time_factorisation: factor_time,
+        solves: linear.counts.calls,
+        time_solves: Duration::from_secs_f64(linear.counts.seconds),
         factorizations,
         objective_evaluations: prob.n_obj,
         exact_hessian_from: exact_from,

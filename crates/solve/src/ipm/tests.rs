@@ -51,6 +51,16 @@ fn check(name: &str, nlp: &dyn Nlp, opts: &SolverOptions, f_opt: f64, x_opt: &[f
         "{name}: logged factorisations {logged}, total {}",
         r.factorizations
     );
+    // every iteration solves with its factor at least once; the solves' time is part of
+    // the linear-algebra time, beside the factorisations'
+    assert!(
+        r.solves >= r.iterations && r.time_solves + r.time_factorisation <= r.time_linear_solver,
+        "{name}: {} solves in {:?}, factorisations {:?}, linear algebra {:?}",
+        r.solves,
+        r.time_solves,
+        r.time_factorisation,
+        r.time_linear_solver
+    );
 }
 
 fn all_options() -> Vec<(&'static str, SolverOptions)> {

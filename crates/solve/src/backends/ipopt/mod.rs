@@ -550,6 +550,8 @@ impl Solver for IpoptSolver {
             time_linear_solver: Default::default(),
             time_symbolic: Default::default(),
             time_factorisation: Default::default(),
+            solves: 0,
+            time_solves: Default::default(),
             factorizations: 0,
             objective_evaluations: counts.objective,
             exact_hessian_from: None,
