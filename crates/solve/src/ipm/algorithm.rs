@@ -2242,7 +2242,7 @@ pub fn solve(
         time_symbolic,
         time_factorisation: factor_time,
         solves: linear.counts.calls,
-        time_solves: Duration::from_secs_f64(linear.counts.seconds),
+        time_solves: linear.counts.time,
         factorizations,
         objective_evaluations: prob.n_obj,
         exact_hessian_from: exact_from,
@@ -2273,12 +2273,14 @@ pub fn solve(
                 "; exact tail {} calls, {} columns, {:.3} s",
                 c.calls - counts_at_switch.calls,
                 c.columns - counts_at_switch.columns,
-                c.seconds - counts_at_switch.seconds
+                (c.time - counts_at_switch.time).as_secs_f64()
             )
         });
         eprintln!(
             "stride-ipm: solves {} calls, {} columns, {:.3} s{tail}",
-            c.calls, c.columns, c.seconds
+            c.calls,
+            c.columns,
+            c.time.as_secs_f64()
         );
     }
     Ok(result)
