@@ -111,11 +111,37 @@ fn banded<T: Scalar>(x: &[T]) -> Vec<T> {
         .collect()
 }
 
+/// Long sums and scalings (like joint torques summed over muscles): chains of operations
+/// with constant partials, some intermediate sums also used elsewhere or returned,
+/// `x - x`, negation, shifts and division by constants between nonlinear terms.
+#[allow(clippy::eq_op)] // `half - half` is the `x - x` case
+fn linear_chains<T: Scalar>(x: &[T]) -> Vec<T> {
+    let n = x.len();
+    let mut total = T::zero();
+    let mut half = T::zero();
+    for i in 0..n {
+        let term = x[i] * x[(i + 3) % n] * (0.5 + i as f64);
+        total = total + term - x[i] * 0.25;
+        if i == n / 2 {
+            half = total;
+        }
+    }
+    let shifted = -(total / 3.0 + 2.0) * 1.5 - x[0];
+    let zero = half - half;
+    vec![
+        shifted.sin() + zero,
+        half,
+        half.sq() + total,
+        (x[1] + x[2]) * 2.0 - (x[3] + x[4] - x[5]),
+    ]
+}
+
 fn cases() -> Vec<Case> {
     vec![
         case!("rosenbrock", 8, -1.5, 1.5, rosenbrock),
         case!("every_method", 5, 0.5, 1.4, every_method),
         case!("banded", 40, -1.0, 1.0, banded),
+        case!("linear_chains", 12, -1.0, 1.0, linear_chains),
     ]
 }
 
@@ -338,6 +364,31 @@ fn sparsity_is_exploited_on_the_banded_function() {
     assert_eq!(s.hes_nnz, 40 + 39 + 38);
     assert!(s.jac_colours <= 5, "row colours {}", s.jac_colours);
     assert!(s.hes_colours <= 9, "Hessian colours {}", s.hes_colours);
+}
+
+#[test]
+fn linear_combinations_store_only_their_result() {
+    // y = Σᵢ xᵢ² + 2 Σᵢ xᵢ: the partial sums are used once, by the next sum, so only the
+    // inputs (1 entry each), the squares (1 each) and the sum (n entries) are stored;
+    // without collapsing, the n − 1 partial sums of the chain alone hold Σ (i + 1) more.
+    let n = 30;
+    let x0: Vec<f64> = (0..n).map(|i| 0.1 * i as f64).collect();
+    let tape = Tape::record(&x0, |x: &[Var]| {
+        let mut s = Var::zero();
+        for &xi in x {
+            s = s + xi.sq() + xi * 2.0;
+        }
+        vec![s]
+    })
+    .unwrap();
+    assert_eq!(tape.stats().grad_entries, n + n + n);
+    let mut ws = tape.workspace();
+    let (mut y, mut jac) = (vec![0.0], vec![0.0; n]);
+    tape.jacobian(&x0, &mut ws, &mut y, &mut jac).unwrap();
+    let cols = &tape.jacobian_pattern().cols;
+    for (e, &c) in cols.iter().enumerate() {
+        assert_eq!(jac[e], 2.0 * x0[c as usize] + 2.0, "column {c}");
+    }
 }
 
 #[test]

@@ -177,8 +177,14 @@ impl Tape {
             hes_chunks: Vec::new(),
             sparse: sparse::SparsePlan::default(),
         };
-        let (plan, hes_pattern) =
-            sparse::SparsePlan::new(n_in, &tape.ops, &tape.args, &tape.active, &jset);
+        let (plan, hes_pattern) = sparse::SparsePlan::new(
+            n_in,
+            &tape.ops,
+            &tape.args,
+            &tape.active,
+            &tape.outputs,
+            &jset,
+        );
         tape.sparse = plan;
         tape.plan_jacobian(&jset);
         tape.plan_hessian(hes_pattern);

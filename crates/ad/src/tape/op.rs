@@ -164,6 +164,21 @@ impl Op {
         }
     }
 
+    /// The partials `[∂/∂a, ∂/∂b]` when they are constants independent of the operand
+    /// values (sums, differences, negation, scaling, shifts); `None` otherwise.
+    /// They equal the partials the value sweep computes.
+    pub fn constant_partials(&self) -> Option<[f64; 2]> {
+        match *self {
+            Op::Add(..) => Some([1.0, 1.0]),
+            Op::Sub(..) => Some([1.0, -1.0]),
+            Op::Neg(_) => Some([-1.0, 0.0]),
+            Op::AddC(..) => Some([1.0, 0.0]),
+            Op::MulC(_, c) => Some([c, 0.0]),
+            Op::DivC(_, c) => Some([1.0 / c, 0.0]),
+            _ => None,
+        }
+    }
+
     /// The second-order structure of the operation.
     pub fn curvature(&self) -> Curvature {
         match *self {

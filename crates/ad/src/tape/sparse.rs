@@ -7,6 +7,10 @@
 //! - Hessian of `Σ λᵢ yᵢ`: second-order adjoint `ȧₖ = ∂āₖ/∂x` carried on its static set
 //!   `R(k)` and propagated in reverse, `ȧₐ += ∂ₐφ ȧₖ + āₖ (∂²ₐₐφ ∇a + ∂²ₐᵦφ ∇b)`, using the
 //!   sparse gradients `∇a` of the forward pass. Row `i` of the Hessian is `ȧ` of input `i`.
+//! - Linear combinations: a chain or tree of operations with constant partials (sums,
+//!   differences, scalings) whose intermediate results are used once, by the next such
+//!   operation, is swept as one `Σ cⱼ ∇j` at its root; the intermediates store neither
+//!   `P` nor `R` entries (a sum of n terms costs O(n·|P(root)|) instead of O(n²)).
 
 use super::op::{Curvature, Op};
 use crate::sparsity::{bits, BitSets, Pattern};
@@ -55,6 +59,24 @@ struct FwdStep {
     fb: Map,
     /// Both operands are the same node (`x * x`): one scatter with the summed partials.
     same: bool,
+    /// A collapsed linear combination (`n_terms > 0`): `P(k)` is the sum of the terms
+    /// `terms[term..term + n_terms]` instead of the two operands.
+    term: u32,
+    n_terms: u32,
+}
+
+/// One term `c ∇j` of a collapsed linear combination: a node whose gradient is stored,
+/// reached from the combination's root through operations with constant partials whose
+/// intermediate results are used nowhere else (their gradients are never stored).
+#[derive(Clone, Copy, Debug)]
+struct Term {
+    /// Start and length of `P(j)` in the gradient store.
+    src: u32,
+    len: u32,
+    /// `P(j) → P(root)`.
+    map: Map,
+    /// Product of the constant partials along the path from the root to `j`.
+    coef: f64,
 }
 
 /// A slice `[start, start + len)` of one of the stores.
@@ -89,19 +111,39 @@ struct RevStep {
     curv: Curvature,
     /// Both operands are the same node.
     same: bool,
+    /// A collapsed linear combination (`n_terms > 0`): `ȧ` of each term's node gets
+    /// `coef · ȧₖ`, through `rterms[term..term + n_terms]`, instead of the operands.
+    term: u32,
+    n_terms: u32,
+}
+
+/// One term of a collapsed linear combination in the second-order adjoint sweep.
+#[derive(Clone, Copy, Debug)]
+struct RevTerm {
+    /// `R(j)` of the term's node in the adjoint store.
+    dst: Span,
+    /// `R(root) → R(j)`.
+    map: Map,
+    /// Product of the constant partials along the path from the root to `j`.
+    coef: f64,
 }
 
 /// The static index sets and maps of the sparse sweeps of one tape.
 #[derive(Clone, Debug, Default)]
 pub(super) struct SparsePlan {
+    /// Offsets of the stored gradients `P(k)` per node (empty for collapsed nodes).
     poff: Vec<u32>,
-    pidx: Vec<u32>,
+    /// Offsets of the stored second-order adjoints `R(k)` per node (empty for collapsed
+    /// nodes).
     roff: Vec<u32>,
-    ridx: Vec<u32>,
     /// The second-order adjoint sweep, active operations in descending order.
     rev: Vec<RevStep>,
+    /// Terms of the collapsed linear combinations of `rev`.
+    rterms: Vec<RevTerm>,
     /// The forward gradient sweep, active operations in ascending order.
     fwd: Vec<FwdStep>,
+    /// Terms of the collapsed linear combinations of `fwd`.
+    terms: Vec<Term>,
     store: Vec<u32>,
     /// `(position in ȧ store, Hessian entry)` for the lower triangle, in pattern order.
     hes_extract: Vec<u32>,
@@ -116,6 +158,17 @@ fn flat(sets: &BitSets, n: usize) -> (Vec<u32>, Vec<u32>) {
         off.push(idx.len() as u32);
     }
     (off, idx)
+}
+
+/// Store offsets of the sets with offsets `full` when collapsed nodes store nothing.
+fn stored_offsets(full: &[u32], collapsed: &[bool]) -> Vec<u32> {
+    let mut off = Vec::with_capacity(full.len());
+    off.push(0u32);
+    for (k, &c) in collapsed.iter().enumerate() {
+        let len = if c { 0 } else { full[k + 1] - full[k] };
+        off.push(off[k] + len);
+    }
+    off
 }
 
 fn slice<'a>(off: &[u32], idx: &'a [u32], k: usize) -> &'a [u32] {
@@ -152,11 +205,14 @@ impl SparsePlan {
         ops: &[Op],
         args: &[[u32; 2]],
         active: &[bool],
+        outputs: &[u32],
         jset: &BitSets,
     ) -> (SparsePlan, Pattern) {
         let n = n_in + ops.len();
-        let (poff, pidx) = flat(jset, n);
-        let p = |k: u32| slice(&poff, &pidx, k as usize);
+        let (pfull, pidx) = flat(jset, n);
+        let p = |k: u32| slice(&pfull, &pidx, k as usize);
+        let collapsed = collapsible(n_in, ops, args, active, outputs);
+        let poff = stored_offsets(&pfull, &collapsed);
         // R sets, reverse order; the sink (index n) has empty P and R.
         let mut r = BitSets::new(n + 1, n_in);
         let sink = n as u32;
@@ -188,14 +244,15 @@ impl SparsePlan {
             }
         }
         // The sink collects nothing meaningful.
-        let (roff, ridx) = flat(&r, n);
-        let rs = |k: u32| slice(&roff, &ridx, k as usize);
+        let (rfull, ridx) = flat(&r, n);
+        let rs = |k: u32| slice(&rfull, &ridx, k as usize);
+        let roff = stored_offsets(&rfull, &collapsed);
         let mut store = Vec::new();
         let mut maps = Vec::with_capacity(ops.len());
         for t in 0..ops.len() {
             let k = (n_in + t) as u32;
             let mut m = OpMaps::default();
-            if active[k as usize] {
+            if active[k as usize] && !collapsed[k as usize] {
                 let [a, b] = args[t];
                 if a != sink {
                     m.fa = map_of(p(a), p(k), &mut store);
@@ -249,55 +306,116 @@ impl SparsePlan {
             let (start, len) = span(k);
             Span { start, len }
         };
-        let rev = (0..ops.len())
+        // Collapsed linear combinations: per root, its stored leaves with summed
+        // coefficients (leaf order ascending), shared by both sweeps.
+        let mut combos: Vec<Option<Vec<(u32, f64)>>> = vec![None; ops.len()];
+        let mut leaves: Vec<(u32, f64)> = Vec::new();
+        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !collapsed[n_in + t]) {
+            let [a, b] = args[t];
+            let collapses = |j: u32| j != sink && collapsed[j as usize];
+            if collapses(a) || collapses(b) {
+                leaves.clear();
+                linear_leaves(
+                    n_in,
+                    ops,
+                    args,
+                    &collapsed,
+                    sink,
+                    (n_in + t) as u32,
+                    1.0,
+                    &mut leaves,
+                );
+                leaves.sort_by_key(|&(j, _)| j);
+                let mut merged: Vec<(u32, f64)> = Vec::with_capacity(leaves.len());
+                for &(j, c) in &leaves {
+                    match merged.last_mut() {
+                        Some(last) if last.0 == j => last.1 += c,
+                        _ => merged.push((j, c)),
+                    }
+                }
+                combos[t] = Some(merged);
+            }
+        }
+        let mut rterms = Vec::new();
+        let mut rev = Vec::new();
+        for t in (0..ops.len())
             .rev()
-            .filter(|&t| active[n_in + t])
-            .map(|t| {
-                let [a, b] = args[t];
-                let k = (n_in + t) as u32;
-                RevStep {
-                    t: t as u32,
-                    k,
-                    rk: rspan(k),
-                    ra: rspan(a),
-                    rb: if b == a { Span::default() } else { rspan(b) },
-                    pa: pspan(a),
-                    pb: pspan(b),
-                    maps: maps[t],
-                    curv: curv[t],
-                    same: a == b,
+            .filter(|&t| active[n_in + t] && !collapsed[n_in + t])
+        {
+            let [a, b] = args[t];
+            let k = (n_in + t) as u32;
+            let mut step = RevStep {
+                t: t as u32,
+                k,
+                rk: rspan(k),
+                ra: rspan(a),
+                rb: if b == a { Span::default() } else { rspan(b) },
+                pa: pspan(a),
+                pb: pspan(b),
+                maps: maps[t],
+                curv: curv[t],
+                same: a == b,
+                term: 0,
+                n_terms: 0,
+            };
+            if let Some(combo) = &combos[t] {
+                step.term = rterms.len() as u32;
+                for &(j, coef) in combo {
+                    rterms.push(RevTerm {
+                        dst: rspan(j),
+                        map: map_of(rs(k), rs(j), &mut store),
+                        coef,
+                    });
                 }
-            })
-            .collect();
-        let fwd = (0..ops.len())
-            .filter(|&t| active[n_in + t])
-            .map(|t| {
-                let [a, b] = args[t];
-                let (k, k_len) = span((n_in + t) as u32);
-                let (a0, a_len) = span(a);
-                let (b0, b_len) = if b == a { (0, 0) } else { span(b) };
-                FwdStep {
-                    t: t as u32,
-                    k,
-                    k_len,
-                    a: a0,
-                    a_len,
-                    b: b0,
-                    b_len,
-                    fa: maps[t].fa,
-                    fb: maps[t].fb,
-                    same: a == b,
+                step.n_terms = rterms.len() as u32 - step.term;
+            }
+            rev.push(step);
+        }
+        let mut terms = Vec::new();
+        let mut fwd = Vec::new();
+        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !collapsed[n_in + t]) {
+            let [a, b] = args[t];
+            let k = (n_in + t) as u32;
+            let (k0, k_len) = span(k);
+            let (a0, a_len) = span(a);
+            let (b0, b_len) = if b == a { (0, 0) } else { span(b) };
+            let mut step = FwdStep {
+                t: t as u32,
+                k: k0,
+                k_len,
+                a: a0,
+                a_len,
+                b: b0,
+                b_len,
+                fa: maps[t].fa,
+                fb: maps[t].fb,
+                same: a == b,
+                term: 0,
+                n_terms: 0,
+            };
+            if let Some(combo) = &combos[t] {
+                step.term = terms.len() as u32;
+                for &(j, coef) in combo {
+                    let (src, len) = span(j);
+                    terms.push(Term {
+                        src,
+                        len,
+                        map: map_of(p(j), p(k), &mut store),
+                        coef,
+                    });
                 }
-            })
-            .collect();
+                step.n_terms = terms.len() as u32 - step.term;
+            }
+            fwd.push(step);
+        }
         (
             SparsePlan {
                 poff,
-                pidx,
                 roff,
-                ridx,
                 rev,
+                rterms,
                 fwd,
+                terms,
                 store,
                 hes_extract,
             },
@@ -307,15 +425,90 @@ impl SparsePlan {
 
     /// Length of the forward gradient store.
     pub(super) fn grad_len(&self) -> usize {
-        self.pidx.len()
+        *self.poff.last().unwrap_or(&0) as usize
     }
     /// Length of the second-order adjoint store.
     pub(super) fn adot_len(&self) -> usize {
-        self.ridx.len()
+        *self.roff.last().unwrap_or(&0) as usize
     }
     /// Total number of stored map positions (memory report).
     pub(super) fn map_len(&self) -> usize {
         self.store.len()
+    }
+}
+
+/// The nodes whose gradients need not be stored: results of operations with constant
+/// partials used by exactly one operation, itself with constant partials, and not an
+/// output. Their contributions are summed directly into the gradient of the first node
+/// down the chain that is stored (the root of the linear combination).
+fn collapsible(
+    n_in: usize,
+    ops: &[Op],
+    args: &[[u32; 2]],
+    active: &[bool],
+    outputs: &[u32],
+) -> Vec<bool> {
+    let n = n_in + ops.len();
+    let mut uses = vec![0u32; n];
+    let mut user = vec![u32::MAX; n];
+    for (t, [a, b]) in args.iter().enumerate() {
+        if !active[n_in + t] {
+            continue;
+        }
+        for j in [*a, *b].into_iter().take(if a == b { 1 } else { 2 }) {
+            if (j as usize) < n {
+                uses[j as usize] += 1;
+                user[j as usize] = t as u32;
+            }
+        }
+    }
+    for &o in outputs {
+        uses[o as usize] += 2;
+    }
+    (0..n)
+        .map(|k| {
+            k >= n_in
+                && active[k]
+                && uses[k] == 1
+                && ops[k - n_in].constant_partials().is_some()
+                && ops[user[k] as usize].constant_partials().is_some()
+        })
+        .collect()
+}
+
+/// Appends `(j, c)` for every stored node `j` that the collapsed linear combination rooted
+/// at node `k` sums, `c` the product of constant partials from `k` to `j` times `scale`.
+#[allow(clippy::too_many_arguments)]
+fn linear_leaves(
+    n_in: usize,
+    ops: &[Op],
+    args: &[[u32; 2]],
+    collapsed: &[bool],
+    sink: u32,
+    k: u32,
+    scale: f64,
+    out: &mut Vec<(u32, f64)>,
+) {
+    let t = k as usize - n_in;
+    let [pa, pb] = ops[t]
+        .constant_partials()
+        .expect("a linear combination's nodes have constant partials");
+    let [a, b] = args[t];
+    // Same operand twice (`x - x`, unary ops): one term with the summed partials.
+    let operands = if a == b {
+        [(a, pa + pb), (sink, 0.0)]
+    } else {
+        [(a, pa), (b, pb)]
+    };
+    for (j, c) in operands {
+        if j == sink {
+            continue;
+        }
+        if collapsed[j as usize] {
+            linear_leaves(n_in, ops, args, collapsed, sink, j, scale * c, out);
+        } else {
+            out.push((j, scale * c));
+        }
     }
 }
 
@@ -387,6 +580,18 @@ impl super::Tape {
             }
         }
         for s in &sp.fwd {
+            if s.n_terms > 0 {
+                // Operands precede the result in the store: split there.
+                let (lo, hi) = g.split_at_mut(s.k as usize);
+                let gk = &mut hi[..s.k_len as usize];
+                gk.iter_mut().for_each(|x| *x = [0.0; L]);
+                let terms = &sp.terms[s.term as usize..(s.term + s.n_terms) as usize];
+                for term in terms {
+                    let src = &lo[term.src as usize..(term.src + term.len) as usize];
+                    axpy(gk, src, [term.coef; L], term.map, &sp.store);
+                }
+                continue;
+            }
             let t = s.t as usize;
             let (mut ca, mut cb) = ([0.0; L], [0.0; L]);
             for l in 0..L {
@@ -447,6 +652,23 @@ impl super::Tape {
     ) {
         let sp = &self.sparse;
         for s in &sp.rev {
+            if s.n_terms > 0 {
+                // Linear: no curvature terms, only ȧⱼ += c ȧₖ for each term.
+                let (lo, hi) = d.split_at_mut(s.rk.start as usize);
+                let dk = &mut hi[..s.rk.len as usize];
+                let terms = &sp.rterms[s.term as usize..(s.term + s.n_terms) as usize];
+                for term in terms {
+                    axpy(
+                        &mut lo[term.dst.range()],
+                        dk,
+                        [term.coef; L],
+                        term.map,
+                        &sp.store,
+                    );
+                }
+                dk.iter_mut().for_each(|x| *x = [0.0; L]);
+                continue;
+            }
             let t = s.t as usize;
             let (mut pa, mut pb, mut cs, mut cab, mut cbb) =
                 ([0.0; L], [0.0; L], [0.0; L], [0.0; L], [0.0; L]);
