@@ -35,7 +35,12 @@ pub struct StudyArgs {
     /// Run failed cases again.
     #[arg(long)]
     pub retry_failed: bool,
-    /// Only expand and validate: list the cases and exit.
+    /// Run only the cases whose names match one of these comma-separated patterns
+    /// (`*` any characters, `?` one), e.g. `'speed_2.*__dir,speed_1.33__*'`; the
+    /// others stay as they are (finished, or not run until a later run).
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
+    /// Only expand and validate: list the cases (those selected by `--only`) and exit.
     #[arg(long)]
     pub dry_run: bool,
     /// No progress output.
@@ -77,11 +82,23 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     let model = study_model(h.model.as_deref())?;
     check_cases(&model, &study.cases)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
+    let only = if args.only.is_empty() {
+        None
+    } else {
+        Some(
+            spec::select_cases(&study.cases, &args.only)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?,
+        )
+    };
+    let selected = |i: usize| only.as_ref().is_none_or(|m| m[i]);
     if args.dry_run {
-        for c in &study.cases {
-            println!("{}", c.name);
+        for (i, c) in study.cases.iter().enumerate() {
+            if selected(i) {
+                println!("{}", c.name);
+            }
         }
-        println!("{} cases", study.cases.len());
+        let n = (0..study.cases.len()).filter(|&i| selected(i)).count();
+        println!("{n} of {} cases", study.cases.len());
         return Ok(());
     }
     let out = args.out.clone().unwrap_or_else(|| h.output.clone());
@@ -109,12 +126,18 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
             jobs,
             quiet: args.quiet,
             retry_failed: args.retry_failed,
+            only,
         },
     )?;
     let recompute = |dir: &Path| measures_from_solution(&runner.model, dir);
     let report = analysis::report_folder_with(&out, Some(&recompute))?;
+    let left_out = if summary.not_selected > 0 {
+        format!(", {} not selected", summary.not_selected)
+    } else {
+        String::new()
+    };
     println!(
-        "{} cases: {} converged, {} failed ({} run now, {} already done); index {}, report {}",
+        "{} cases: {} converged, {} failed ({} run now, {} already done{left_out}); index {}, report {}",
         study.cases.len(),
         summary.converged,
         summary.failed,

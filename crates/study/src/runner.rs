@@ -31,6 +31,9 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Run failed cases again (converged ones are always kept).
     pub retry_failed: bool,
+    /// Run only these cases (a mask over the study's cases; `None`: all). The others are
+    /// left as they are: finished ones are kept, unfinished ones stay not run.
+    pub only: Option<Vec<bool>>,
 }
 
 /// Counts at the end of a run.
@@ -44,6 +47,8 @@ pub struct RunSummary {
     pub skipped: usize,
     /// Cases run now.
     pub ran: usize,
+    /// Unfinished cases left out by the selection (`RunOptions::only`).
+    pub not_selected: usize,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -51,6 +56,8 @@ enum State {
     Pending,
     Running,
     Done,
+    /// Unfinished and not selected: not run now.
+    Excluded,
 }
 
 struct Shared {
@@ -110,16 +117,32 @@ pub fn run_study(
         }
     }
     let skipped = records.iter().filter(|r| r.is_some()).count();
-    let state = records
+    let state: Vec<State> = records
         .iter()
-        .map(|r| {
+        .enumerate()
+        .map(|(i, r)| {
             if r.is_some() {
                 State::Done
+            } else if opts.only.as_ref().is_some_and(|m| !m[i]) {
+                State::Excluded
             } else {
                 State::Pending
             }
         })
         .collect();
+    // A selected case must not wait for a case that will not run.
+    for (i, c) in cases.iter().enumerate() {
+        if state[i] != State::Pending {
+            continue;
+        }
+        if let Some(&s) = c.sources.iter().find(|&&s| state[s] == State::Excluded) {
+            return Err(StoreError::Selection(format!(
+                "case `{}` continues from `{}`, which is not finished and not selected",
+                c.name, cases[s].name
+            )));
+        }
+    }
+    let not_selected = state.iter().filter(|&&s| s == State::Excluded).count();
     store.write_index(cases, &records, &axes)?;
     let shared = Mutex::new(Shared {
         state,
@@ -162,6 +185,7 @@ pub fn run_study(
         failed: count(CaseStatus::Failed),
         skipped,
         ran: sh.ran,
+        not_selected,
     })
 }
 
@@ -391,15 +415,21 @@ fn print_progress(sh: &Shared, total: usize, jobs: usize, last: &CaseRecord) {
         .iter()
         .filter(|r| r.as_ref().is_some_and(|r| r.status == CaseStatus::Failed))
         .count();
-    let remaining = total - done - sh.running;
+    let excluded = sh.state.iter().filter(|s| **s == State::Excluded).count();
+    let remaining = total - done - sh.running - excluded;
     let eta = if sh.ran > 0 {
         let per_case = sh.time_spent / sh.ran as u32;
         format_duration(per_case * ((remaining + sh.running) as u32) / jobs.max(1) as u32)
     } else {
         "?".into()
     };
+    let left_out = if excluded > 0 {
+        format!(", {excluded} not selected")
+    } else {
+        String::new()
+    };
     eprintln!(
-        "[{done}/{total} done, {failed} failed, {} running, {remaining} remaining, ~{eta} left] {}: {} {} ({:.1} s)",
+        "[{done}/{total} done, {failed} failed, {} running, {remaining} remaining{left_out}, ~{eta} left] {}: {} {} ({:.1} s)",
         sh.running,
         last.name,
         last.status.as_str(),

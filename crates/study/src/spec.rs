@@ -550,3 +550,66 @@ pub fn varying_axes(cases: &[Case]) -> Vec<String> {
     keys.dedup();
     keys
 }
+
+/// Which cases match any of `patterns` (case names with `*` for any run of characters
+/// and `?` for one character). A pattern that matches no case is an error naming it.
+pub fn select_cases(cases: &[Case], patterns: &[String]) -> Result<Vec<bool>, String> {
+    let mut selected = vec![false; cases.len()];
+    for p in patterns {
+        let mut any = false;
+        for (s, c) in selected.iter_mut().zip(cases) {
+            if glob_match(p.as_bytes(), c.name.as_bytes()) {
+                *s = true;
+                any = true;
+            }
+        }
+        if !any {
+            return Err(format!(
+                "--only: `{p}` matches no case of the study (see --dry-run for the names)"
+            ));
+        }
+    }
+    Ok(selected)
+}
+
+/// `*` / `?` wildcard match of a whole name.
+fn glob_match(p: &[u8], s: &[u8]) -> bool {
+    // Iterative matching with one backtrack point (the last `*`).
+    let (mut i, mut j) = (0, 0);
+    let mut star: Option<(usize, usize)> = None;
+    while j < s.len() {
+        if i < p.len() && (p[i] == b'?' || p[i] == s[j]) {
+            i += 1;
+            j += 1;
+        } else if i < p.len() && p[i] == b'*' {
+            star = Some((i, j));
+            i += 1;
+        } else if let Some((si, sj)) = star {
+            i = si + 1;
+            j = sj + 1;
+            star = Some((si, sj + 1));
+        } else {
+            return false;
+        }
+    }
+    p[i..].iter().all(|&c| c == b'*')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::glob_match;
+
+    #[test]
+    fn wildcards_match_whole_names() {
+        let m = |p: &str, s: &str| glob_match(p.as_bytes(), s.as_bytes());
+        assert!(m("speed_2.*__dir", "speed_2.33__dir"));
+        assert!(!m("speed_2.*__dir", "speed_2.33__diw"));
+        assert!(!m("speed_2.*", "speed_1.33__dir"));
+        assert!(m("*", ""));
+        assert!(m("speed_?.33__*", "speed_1.33__qr"));
+        assert!(!m("speed_1.33", "speed_1.33__qr"));
+        assert!(m("*__q*", "speed_1.33__qr"));
+        assert!(m("a*b*c", "aXbYbZc"));
+        assert!(!m("a*b*c", "aXbYbZ"));
+    }
+}

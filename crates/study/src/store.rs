@@ -35,6 +35,9 @@ pub enum StoreError {
         /// Hash of this study file.
         expected: String,
     },
+    /// The selected cases cannot run on their own.
+    #[error("{0}")]
+    Selection(String),
 }
 
 pub(crate) fn io_err(path: &Path, e: impl ToString) -> StoreError {

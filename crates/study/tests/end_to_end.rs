@@ -55,6 +55,7 @@ guesses = ["quasi-random", "full-os", "partial-os"]
             jobs: 2,
             quiet: true,
             retry_failed: false,
+            only: None,
         },
     )
     .unwrap();

@@ -126,6 +126,7 @@ fn opts(jobs: usize) -> RunOptions {
         jobs,
         quiet: true,
         retry_failed: false,
+        only: None,
     }
 }
 
@@ -276,6 +277,7 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
             jobs: 2,
             quiet: true,
             retry_failed: true,
+            only: None,
         },
     )
     .unwrap();
@@ -287,6 +289,65 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
         other => panic!("{other:?}"),
     }
     assert!(Store::open(&out, &other, true).is_ok());
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn a_selection_runs_only_its_cases_and_a_later_run_completes_the_study() {
+    let out = temp("only");
+    let study = spec::parse(SMALL, Path::new("small.toml")).unwrap();
+    let store = Store::open(&out, &study, false).unwrap();
+    let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
+    // A pattern that matches nothing is an error naming it.
+    let e = spec::select_cases(&study.cases, &["speed_9*".into()]).unwrap_err();
+    assert!(e.contains("`speed_9*` matches no case"), "{e}");
+    // A continuation case without its sources cannot run alone.
+    let mask = spec::select_cases(&study.cases, &["speed_1.43__nominal__fos".into()]).unwrap();
+    let with = |only: Vec<bool>| RunOptions {
+        only: Some(only),
+        ..opts(2)
+    };
+    match run_study(&study, &store, &Fake::new(), &with(mask)) {
+        Err(StoreError::Selection(e)) => assert!(
+            e.contains("`speed_1.43__nominal__fos` continues from `speed_1.33__nominal__qr`"),
+            "{e}"
+        ),
+        other => panic!("{other:?}"),
+    }
+    // The anchor cases and their first continuation: exactly these run.
+    let patterns = [
+        "speed_1.33__*".to_string(),
+        "speed_1.43__nominal__?os".into(),
+    ];
+    let mask = spec::select_cases(&study.cases, &patterns).unwrap();
+    let fake = Fake::new();
+    let s1 = run_study(&study, &store, &fake, &with(mask.clone())).unwrap();
+    let mut ran: Vec<String> = fake
+        .calls
+        .lock()
+        .unwrap()
+        .iter()
+        .map(|c| c.0.clone())
+        .collect();
+    ran.sort();
+    let mut want: Vec<String> = names
+        .iter()
+        .zip(&mask)
+        .filter(|(_, &m)| m)
+        .map(|(n, _)| n.to_string())
+        .collect();
+    want.sort();
+    assert_eq!(ran, want);
+    assert_eq!(want.len(), 6);
+    assert_eq!((s1.ran, s1.not_selected), (6, 30));
+    let index = std::fs::read_to_string(out.join("index.csv")).unwrap();
+    assert!(index.contains("speed_1.13__nominal__qr,nominal,1.13,quasi-random,not run"));
+    // The same command without the selection runs the other 30, none twice.
+    let fake2 = Fake::new();
+    let s2 = run_study(&study, &store, &fake2, &opts(2)).unwrap();
+    assert_eq!((s2.ran, s2.skipped, s2.not_selected), (30, 6, 0));
+    let calls = fake2.calls.lock().unwrap();
+    assert!(calls.iter().all(|c| !want.contains(&c.0)));
     let _ = std::fs::remove_dir_all(&out);
 }
 
