@@ -269,15 +269,7 @@ impl GaitProblem {
         let total = if self.is_half_cycle() { 2 * n } else { n };
         let vy_r: Vec<f64> = m.half.grf_right.iter().map(|f| f[1]).collect();
         let vy_l: Vec<f64> = m.half.grf_left.iter().map(|f| f[1]).collect();
-        // Heel strike (as a mesh-point index 1..=N) of the right foot, else of the left
-        // foot followed by a mirrored start (half cycles only).
-        // Without a right heel strike in the half cycle, the left heel strike of the first
-        // half is the right heel strike of the mirrored second half (start there).
-        let start = match heel_strike(&vy_r) {
-            Some(s) => s,
-            None if self.is_half_cycle() => heel_strike(&vy_l).map(|s| s + n).unwrap_or(0),
-            None => 0,
-        };
+        let start = cycle_start(&vy_r, &vy_l, self.is_half_cycle());
         let h = m.duration / n as f64;
         let mut out = Trajectory::default();
         for i in 0..total {
@@ -323,6 +315,56 @@ impl GaitProblem {
             })
             .collect()
     }
+}
+
+/// The sample (control-type index `g` of the periodic extension) where the reconstructed
+/// cycle starts: right heel strike. `vy_r`, `vy_l`: vertical forces [N] at mesh points
+/// 1..=N of the solved interval; `half`: a symmetric half cycle, whose mirrored second half
+/// has the left foot's forces on the right foot.
+///
+/// FORMULATION 11.2's rule first (the right foot's heel strike in the half cycle, else the
+/// left foot's, which is the right foot's in the mirrored half). That rule finds nothing
+/// when the strike falls exactly on the junction of two halves (the right foot ends the half
+/// in swing and the left foot is in stance throughout): then the strike is found on the
+/// right foot's periodic series over the whole cycle.
+pub fn cycle_start(vy_r: &[f64], vy_l: &[f64], half: bool) -> usize {
+    let n = vy_r.len();
+    if let Some(s) = heel_strike(vy_r) {
+        return s;
+    }
+    if half {
+        if let Some(s) = heel_strike(vy_l) {
+            return s + n;
+        }
+        let cycle: Vec<f64> = vy_r.iter().chain(vy_l).copied().collect();
+        return periodic_heel_strike(&cycle).map_or(0, |j| j + 1);
+    }
+    periodic_heel_strike(vy_r).map_or(0, |j| j + 1)
+}
+
+/// Heel strike (0-based index) in a periodic vertical-force series [N]: the first sample at
+/// or above the contact threshold after the longest run of samples below it (the swing, not
+/// a brief graze). `None` when the foot is always or never in contact.
+pub fn periodic_heel_strike(vy: &[f64]) -> Option<usize> {
+    let n = vy.len();
+    let below = |i: usize| vy[i % n] < CONTACT_THRESHOLD;
+    // Start scanning just after a sample in contact, so that no run wraps around.
+    let first_contact = (0..n).find(|&i| !below(i))?;
+    (0..n).find(|&i| below(i))?;
+    let mut best: Option<(usize, usize)> = None; // (run length, strike index)
+    let mut run = 0;
+    for step in 1..=n {
+        let i = first_contact + step;
+        if below(i) {
+            run += 1;
+        } else {
+            if run > 0 && best.is_none_or(|(len, _)| run > len) {
+                best = Some((run, i % n));
+            }
+            run = 0;
+        }
+    }
+    best.map(|(_, i)| i)
 }
 
 /// Index (mesh point, 1..=N) of heel strike in a vertical-force series sampled at mesh
@@ -575,6 +617,45 @@ mod tests {
         v[1] = v[0];
         assert_eq!(prominent_peaks(&v, 0.05, 0.5), vec![0]);
         assert!(prominent_peaks(&v[..2], 0.0, 0.0).is_empty());
+    }
+
+    #[test]
+    fn periodic_heel_strike_follows_the_longest_swing() {
+        // Strike at index 0, seen only across the wrap-around.
+        assert_eq!(periodic_heel_strike(&[300.0, 200.0, 0.0, 0.0]), Some(0));
+        assert_eq!(
+            periodic_heel_strike(&[0.0, 0.0, 100.0, 300.0, 0.0]),
+            Some(2)
+        );
+        // A graze in swing (one sample above) is not the strike.
+        let graze = [300.0, 250.0, 0.0, 0.0, 30.0, 0.0, 0.0, 0.0, 200.0, 300.0];
+        assert_eq!(periodic_heel_strike(&graze), Some(8));
+        assert_eq!(periodic_heel_strike(&[300.0, 300.0]), None);
+        assert_eq!(periodic_heel_strike(&[0.0, 0.0]), None);
+    }
+
+    #[test]
+    fn the_cycle_starts_at_right_heel_strike_even_on_the_junction_of_two_halves() {
+        // Right foot: strike inside the half at mesh point 3.
+        let r = [0.0, 0.0, 400.0, 500.0];
+        let l = [500.0, 400.0, 0.0, 0.0];
+        assert_eq!(cycle_start(&r, &l, true), 3);
+        // Right foot ends the half in swing, left foot strikes at mesh point 3: the right
+        // foot strikes there in the mirrored half (sample N + 3).
+        let r = [500.0, 0.0, 0.0, 0.0];
+        let l = [0.0, 0.0, 300.0, 500.0];
+        assert_eq!(cycle_start(&r, &l, true), 4 + 3);
+        // The strike on the junction (the case of a converged quasi-random solution): the
+        // right foot leaves stance and ends in swing (12 N < 20 N), the left foot is in
+        // stance throughout, so the right foot strikes at the first sample of the mirrored
+        // half (46 N): sample N + 1. The reference rule finds no strike in either foot.
+        let r = [512.0, 246.0, 0.0, 12.0];
+        let l = [46.0, 506.0, 550.0, 556.0];
+        assert_eq!(heel_strike(&r), None);
+        assert_eq!(heel_strike(&l), None);
+        assert_eq!(cycle_start(&r, &l, true), 4 + 1);
+        // A full periodic cycle whose strike is at its first sample.
+        assert_eq!(cycle_start(&[300.0, 200.0, 0.0, 0.0], &[], false), 1);
     }
 
     #[test]
