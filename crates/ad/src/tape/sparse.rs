@@ -10,9 +10,7 @@
 //! - Linear combinations: a chain or tree of operations with constant partials (sums,
 //!   differences, scalings) whose intermediate results are used once, by the next such
 //!   operation, is swept as one `Σ cⱼ ∇j` at its root; the intermediates store neither
-//!   `P` nor `R` entries (a sum of n terms costs O(n·|P(root)|) instead of O(n²)). In the
-//!   forward sweep a single-use product or function feeding such a sum is collapsed too:
-//!   its operands enter the sum with its local partials as coefficients.
+//!   `P` nor `R` entries (a sum of n terms costs O(n·|P(root)|) instead of O(n²)).
 
 use super::op::{Curvature, Op};
 use crate::sparsity::{bits, BitSets, Pattern};
@@ -79,21 +77,6 @@ struct Term {
     map: Map,
     /// Product of the constant partials along the path from the root to `j`.
     coef: f64,
-    /// When `j` is an operand of a collapsed operation with value-dependent partials
-    /// (a product feeding a sum): that operation's index, whose local partial (`side` 0:
-    /// ∂/∂a, 1: ∂/∂b, 2: their sum, for `x * x` and one-argument functions) multiplies
-    /// `coef` at each evaluation; `u32::MAX` otherwise.
-    part: u32,
-    side: u8,
-}
-
-/// A leaf of a collapsed combination while the plan is built (see [`Term`]).
-#[derive(Clone, Copy, Debug)]
-struct Leaf {
-    node: u32,
-    coef: f64,
-    part: u32,
-    side: u8,
 }
 
 /// A slice `[start, start + len)` of one of the stores.
@@ -228,8 +211,8 @@ impl SparsePlan {
         let n = n_in + ops.len();
         let (pfull, pidx) = flat(jset, n);
         let p = |k: u32| slice(&pfull, &pidx, k as usize);
-        let (collapsed, fcollapsed) = collapsible(n_in, ops, args, active, outputs);
-        let poff = stored_offsets(&pfull, &fcollapsed);
+        let collapsed = collapsible(n_in, ops, args, active, outputs);
+        let poff = stored_offsets(&pfull, &collapsed);
         // R sets, reverse order; the sink (index n) has empty P and R.
         let mut r = BitSets::new(n + 1, n_in);
         let sink = n as u32;
@@ -323,26 +306,36 @@ impl SparsePlan {
             let (start, len) = span(k);
             Span { start, len }
         };
-        // Collapsed combinations: per root, its stored leaves, constant coefficients of
-        // the same leaf summed. The reverse sweep collapses only operations with constant
-        // partials, the forward sweep also single-use products and functions feeding them.
-        let combinations = |mask: &[bool]| {
-            let mut combos: Vec<Option<Vec<Leaf>>> = vec![None; ops.len()];
-            let mut leaves: Vec<Leaf> = Vec::new();
-            for t in (0..ops.len()).filter(|&t| active[n_in + t] && !mask[n_in + t]) {
-                let [a, b] = args[t];
-                let collapses = |j: u32| j != sink && mask[j as usize];
-                if collapses(a) || collapses(b) {
-                    leaves.clear();
-                    let root = (n_in + t) as u32;
-                    combination_leaves(n_in, ops, args, mask, sink, root, 1.0, &mut leaves);
-                    combos[t] = Some(merge_leaves(&mut leaves));
+        // Collapsed linear combinations: per root, its stored leaves with summed
+        // coefficients (leaf order ascending), shared by both sweeps.
+        let mut combos: Vec<Option<Vec<(u32, f64)>>> = vec![None; ops.len()];
+        let mut leaves: Vec<(u32, f64)> = Vec::new();
+        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !collapsed[n_in + t]) {
+            let [a, b] = args[t];
+            let collapses = |j: u32| j != sink && collapsed[j as usize];
+            if collapses(a) || collapses(b) {
+                leaves.clear();
+                linear_leaves(
+                    n_in,
+                    ops,
+                    args,
+                    &collapsed,
+                    sink,
+                    (n_in + t) as u32,
+                    1.0,
+                    &mut leaves,
+                );
+                leaves.sort_by_key(|&(j, _)| j);
+                let mut merged: Vec<(u32, f64)> = Vec::with_capacity(leaves.len());
+                for &(j, c) in &leaves {
+                    match merged.last_mut() {
+                        Some(last) if last.0 == j => last.1 += c,
+                        _ => merged.push((j, c)),
+                    }
                 }
+                combos[t] = Some(merged);
             }
-            combos
-        };
-        let rcombos = combinations(&collapsed);
-        let fcombos = combinations(&fcollapsed);
+        }
         let mut rterms = Vec::new();
         let mut rev = Vec::new();
         for t in (0..ops.len())
@@ -365,13 +358,13 @@ impl SparsePlan {
                 term: 0,
                 n_terms: 0,
             };
-            if let Some(combo) = &rcombos[t] {
+            if let Some(combo) = &combos[t] {
                 step.term = rterms.len() as u32;
-                for l in combo {
+                for &(j, coef) in combo {
                     rterms.push(RevTerm {
-                        dst: rspan(l.node),
-                        map: map_of(rs(k), rs(l.node), &mut store),
-                        coef: l.coef,
+                        dst: rspan(j),
+                        map: map_of(rs(k), rs(j), &mut store),
+                        coef,
                     });
                 }
                 step.n_terms = rterms.len() as u32 - step.term;
@@ -380,7 +373,7 @@ impl SparsePlan {
         }
         let mut terms = Vec::new();
         let mut fwd = Vec::new();
-        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !fcollapsed[n_in + t]) {
+        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !collapsed[n_in + t]) {
             let [a, b] = args[t];
             let k = (n_in + t) as u32;
             let (k0, k_len) = span(k);
@@ -400,17 +393,15 @@ impl SparsePlan {
                 term: 0,
                 n_terms: 0,
             };
-            if let Some(combo) = &fcombos[t] {
+            if let Some(combo) = &combos[t] {
                 step.term = terms.len() as u32;
-                for l in combo {
-                    let (src, len) = span(l.node);
+                for &(j, coef) in combo {
+                    let (src, len) = span(j);
                     terms.push(Term {
                         src,
                         len,
-                        map: map_of(p(l.node), p(k), &mut store),
-                        coef: l.coef,
-                        part: l.part,
-                        side: l.side,
+                        map: map_of(p(j), p(k), &mut store),
+                        coef,
                     });
                 }
                 step.n_terms = terms.len() as u32 - step.term;
@@ -446,20 +437,17 @@ impl SparsePlan {
     }
 }
 
-/// The nodes whose derivatives need not be stored, as two masks `(both sweeps, forward
-/// sweep)`. Both: results of operations with constant partials used by exactly one
-/// operation, itself with constant partials, and not an output; their contributions go
-/// directly into the first stored node down the chain (the root of the linear
-/// combination). Forward: also any other single-use result feeding an operation with
-/// constant partials (a product or function summed into a torque), whose operands then
-/// enter the combination with the operation's local partials as coefficients.
+/// The nodes whose gradients need not be stored: results of operations with constant
+/// partials used by exactly one operation, itself with constant partials, and not an
+/// output. Their contributions are summed directly into the gradient of the first node
+/// down the chain that is stored (the root of the linear combination).
 fn collapsible(
     n_in: usize,
     ops: &[Op],
     args: &[[u32; 2]],
     active: &[bool],
     outputs: &[u32],
-) -> (Vec<bool>, Vec<bool>) {
+) -> Vec<bool> {
     let n = n_in + ops.len();
     let mut uses = vec![0u32; n];
     let mut user = vec![u32::MAX; n];
@@ -477,54 +465,35 @@ fn collapsible(
     for &o in outputs {
         uses[o as usize] += 2;
     }
-    let forward: Vec<bool> = (0..n)
+    (0..n)
         .map(|k| {
             k >= n_in
                 && active[k]
                 && uses[k] == 1
+                && ops[k - n_in].constant_partials().is_some()
                 && ops[user[k] as usize].constant_partials().is_some()
         })
-        .collect();
-    let both = (0..n)
-        .map(|k| forward[k] && ops[k - n_in].constant_partials().is_some())
-        .collect();
-    (both, forward)
+        .collect()
 }
 
-/// Appends a leaf for every stored node that the collapsed combination rooted at node `k`
-/// sums: through collapsed operations with constant partials (coefficients multiplied
-/// along the path, times `scale`), and for a collapsed operation with value-dependent
-/// partials, its operands with a reference to its local partials.
+/// Appends `(j, c)` for every stored node `j` that the collapsed linear combination rooted
+/// at node `k` sums, `c` the product of constant partials from `k` to `j` times `scale`.
 #[allow(clippy::too_many_arguments)]
-fn combination_leaves(
+fn linear_leaves(
     n_in: usize,
     ops: &[Op],
     args: &[[u32; 2]],
-    mask: &[bool],
+    collapsed: &[bool],
     sink: u32,
     k: u32,
     scale: f64,
-    out: &mut Vec<Leaf>,
+    out: &mut Vec<(u32, f64)>,
 ) {
     let t = k as usize - n_in;
+    let [pa, pb] = ops[t]
+        .constant_partials()
+        .expect("a linear combination's nodes have constant partials");
     let [a, b] = args[t];
-    let Some([pa, pb]) = ops[t].constant_partials() else {
-        // Value-dependent partials: the operands are the leaves (never collapsed, as
-        // their user has non-constant partials).
-        let leaf = |node, side| Leaf {
-            node,
-            coef: scale,
-            part: t as u32,
-            side,
-        };
-        if a == b {
-            out.extend((a != sink).then(|| leaf(a, 2)));
-        } else {
-            out.extend((a != sink).then(|| leaf(a, 0)));
-            out.extend((b != sink).then(|| leaf(b, 1)));
-        }
-        return;
-    };
     // Same operand twice (`x - x`, unary ops): one term with the summed partials.
     let operands = if a == b {
         [(a, pa + pb), (sink, 0.0)]
@@ -535,32 +504,12 @@ fn combination_leaves(
         if j == sink {
             continue;
         }
-        if mask[j as usize] {
-            combination_leaves(n_in, ops, args, mask, sink, j, scale * c, out);
+        if collapsed[j as usize] {
+            linear_leaves(n_in, ops, args, collapsed, sink, j, scale * c, out);
         } else {
-            out.push(Leaf {
-                node: j,
-                coef: scale * c,
-                part: u32::MAX,
-                side: 0,
-            });
+            out.push((j, scale * c));
         }
     }
-}
-
-/// The leaves in node order with the constant coefficients of a repeated node summed.
-fn merge_leaves(leaves: &mut [Leaf]) -> Vec<Leaf> {
-    leaves.sort_by_key(|l| (l.node, l.part));
-    let mut merged: Vec<Leaf> = Vec::with_capacity(leaves.len());
-    for &l in leaves.iter() {
-        match merged.last_mut() {
-            Some(last) if last.node == l.node && last.part == u32::MAX && l.part == u32::MAX => {
-                last.coef += l.coef
-            }
-            _ => merged.push(l),
-        }
-    }
-    merged
 }
 
 /// A map only when both sets are non-empty and the source is a subset of the target.
@@ -639,18 +588,7 @@ impl super::Tape {
                 let terms = &sp.terms[s.term as usize..(s.term + s.n_terms) as usize];
                 for term in terms {
                     let src = &lo[term.src as usize..(term.src + term.len) as usize];
-                    let mut c = [term.coef; L];
-                    if term.part != u32::MAX {
-                        for l in 0..L {
-                            let [pa, pb] = part[l][term.part as usize];
-                            c[l] *= match term.side {
-                                0 => pa,
-                                1 => pb,
-                                _ => pa + pb,
-                            };
-                        }
-                    }
-                    axpy(gk, src, c, term.map, &sp.store);
+                    axpy(gk, src, [term.coef; L], term.map, &sp.store);
                 }
                 continue;
             }
