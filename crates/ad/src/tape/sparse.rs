@@ -59,21 +59,19 @@ struct FwdStep {
     fb: Map,
     /// Both operands are the same node (`x * x`): one scatter with the summed partials.
     same: bool,
-    /// A collapsed linear combination (`n_terms > 0`): `P(k)` is the sum of the terms
-    /// `terms[term..term + n_terms]` instead of the two operands.
-    term: u32,
-    n_terms: u32,
+    /// A collapsed linear combination (non-empty): `P(k)` is the sum of these terms of
+    /// `SparsePlan::terms` instead of the two operands.
+    terms: Span,
 }
 
-/// One term `c ∇j` of a collapsed linear combination: a node whose gradient is stored,
-/// reached from the combination's root through operations with constant partials whose
-/// intermediate results are used nowhere else (their gradients are never stored).
+/// One term `c · j` of a collapsed linear combination: a stored node `j` reached from the
+/// combination's root through operations with constant partials whose intermediate
+/// results are used nowhere else (and store nothing).
 #[derive(Clone, Copy, Debug)]
 struct Term {
-    /// Start and length of `P(j)` in the gradient store.
-    src: u32,
-    len: u32,
-    /// `P(j) → P(root)`.
+    /// `j`'s set in the store of the sweep: `P(j)` (forward), `R(j)` (reverse).
+    set: Span,
+    /// Forward `P(j) → P(root)`; reverse `R(root) → R(j)`.
     map: Map,
     /// Product of the constant partials along the path from the root to `j`.
     coef: f64,
@@ -111,21 +109,9 @@ struct RevStep {
     curv: Curvature,
     /// Both operands are the same node.
     same: bool,
-    /// A collapsed linear combination (`n_terms > 0`): `ȧ` of each term's node gets
-    /// `coef · ȧₖ`, through `rterms[term..term + n_terms]`, instead of the operands.
-    term: u32,
-    n_terms: u32,
-}
-
-/// One term of a collapsed linear combination in the second-order adjoint sweep.
-#[derive(Clone, Copy, Debug)]
-struct RevTerm {
-    /// `R(j)` of the term's node in the adjoint store.
-    dst: Span,
-    /// `R(root) → R(j)`.
-    map: Map,
-    /// Product of the constant partials along the path from the root to `j`.
-    coef: f64,
+    /// A collapsed linear combination (non-empty): `ȧ` of each term's node gets
+    /// `coef · ȧₖ`, through these terms of `SparsePlan::rterms`, instead of the operands.
+    terms: Span,
 }
 
 /// The static index sets and maps of the sparse sweeps of one tape.
@@ -139,7 +125,7 @@ pub(super) struct SparsePlan {
     /// The second-order adjoint sweep, active operations in descending order.
     rev: Vec<RevStep>,
     /// Terms of the collapsed linear combinations of `rev`.
-    rterms: Vec<RevTerm>,
+    rterms: Vec<Term>,
     /// The forward gradient sweep, active operations in ascending order.
     fwd: Vec<FwdStep>,
     /// Terms of the collapsed linear combinations of `fwd`.
@@ -355,19 +341,12 @@ impl SparsePlan {
                 maps: maps[t],
                 curv: curv[t],
                 same: a == b,
-                term: 0,
-                n_terms: 0,
+                terms: Span::default(),
             };
             if let Some(combo) = &combos[t] {
-                step.term = rterms.len() as u32;
-                for &(j, coef) in combo {
-                    rterms.push(RevTerm {
-                        dst: rspan(j),
-                        map: map_of(rs(k), rs(j), &mut store),
-                        coef,
-                    });
-                }
-                step.n_terms = rterms.len() as u32 - step.term;
+                step.terms = push_terms(&mut rterms, combo, |j| {
+                    (rspan(j), map_of(rs(k), rs(j), &mut store))
+                });
             }
             rev.push(step);
         }
@@ -390,21 +369,12 @@ impl SparsePlan {
                 fa: maps[t].fa,
                 fb: maps[t].fb,
                 same: a == b,
-                term: 0,
-                n_terms: 0,
+                terms: Span::default(),
             };
             if let Some(combo) = &combos[t] {
-                step.term = terms.len() as u32;
-                for &(j, coef) in combo {
-                    let (src, len) = span(j);
-                    terms.push(Term {
-                        src,
-                        len,
-                        map: map_of(p(j), p(k), &mut store),
-                        coef,
-                    });
-                }
-                step.n_terms = terms.len() as u32 - step.term;
+                step.terms = push_terms(&mut terms, combo, |j| {
+                    (pspan(j), map_of(p(j), p(k), &mut store))
+                });
             }
             fwd.push(step);
         }
@@ -434,6 +404,24 @@ impl SparsePlan {
     /// Total number of stored map positions (memory report).
     pub(super) fn map_len(&self) -> usize {
         self.store.len()
+    }
+}
+
+/// Appends one term per `(node, coefficient)` of `combo`, with the node's set and map from
+/// `set_map`; returns their span in `terms`.
+fn push_terms(
+    terms: &mut Vec<Term>,
+    combo: &[(u32, f64)],
+    mut set_map: impl FnMut(u32) -> (Span, Map),
+) -> Span {
+    let start = terms.len() as u32;
+    for &(j, coef) in combo {
+        let (set, map) = set_map(j);
+        terms.push(Term { set, map, coef });
+    }
+    Span {
+        start,
+        len: terms.len() as u32 - start,
     }
 }
 
@@ -580,15 +568,19 @@ impl super::Tape {
             }
         }
         for s in &sp.fwd {
-            if s.n_terms > 0 {
+            if s.terms.len > 0 {
                 // Operands precede the result in the store: split there.
                 let (lo, hi) = g.split_at_mut(s.k as usize);
                 let gk = &mut hi[..s.k_len as usize];
                 gk.iter_mut().for_each(|x| *x = [0.0; L]);
-                let terms = &sp.terms[s.term as usize..(s.term + s.n_terms) as usize];
-                for term in terms {
-                    let src = &lo[term.src as usize..(term.src + term.len) as usize];
-                    axpy(gk, src, [term.coef; L], term.map, &sp.store);
+                for term in &sp.terms[s.terms.range()] {
+                    axpy(
+                        gk,
+                        &lo[term.set.range()],
+                        [term.coef; L],
+                        term.map,
+                        &sp.store,
+                    );
                 }
                 continue;
             }
@@ -652,14 +644,13 @@ impl super::Tape {
     ) {
         let sp = &self.sparse;
         for s in &sp.rev {
-            if s.n_terms > 0 {
+            if s.terms.len > 0 {
                 // Linear: no curvature terms, only ȧⱼ += c ȧₖ for each term.
                 let (lo, hi) = d.split_at_mut(s.rk.start as usize);
                 let dk = &mut hi[..s.rk.len as usize];
-                let terms = &sp.rterms[s.term as usize..(s.term + s.n_terms) as usize];
-                for term in terms {
+                for term in &sp.rterms[s.terms.range()] {
                     axpy(
-                        &mut lo[term.dst.range()],
+                        &mut lo[term.set.range()],
                         dk,
                         [term.coef; L],
                         term.map,
