@@ -179,6 +179,35 @@ mod tests {
     use super::*;
 
     #[test]
+    fn initial_guesses_are_written_and_read_by_their_study_file_names() {
+        let all = [
+            ("quasi-random", "qr"),
+            ("data-informed-walking", "diw"),
+            ("data-informed-running", "dir"),
+            ("full-os", "fos"),
+            ("partial-os", "pos"),
+        ];
+        for (name, tag) in all {
+            let g = InitialGuess::parse(name).unwrap();
+            assert_eq!(g.to_string(), name);
+            assert_eq!(g.tag(), tag);
+            assert_eq!(g.is_continuation(), tag.ends_with("os"));
+            let json = serde_json::to_string(&g).unwrap();
+            assert_eq!(json, format!("\"{name}\""));
+            assert_eq!(serde_json::from_str::<InitialGuess>(&json).unwrap(), g);
+        }
+        assert_eq!(
+            InitialGuess::from(GuessKind::DataInformedWalking),
+            InitialGuess::parse("di-walking").unwrap()
+        );
+        let e = serde_json::from_str::<InitialGuess>("\"full\"").unwrap_err();
+        assert!(
+            e.to_string().contains("unknown initial guess `full`"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn duration_guess_matches_the_reference_table() {
         assert!((duration_guess(1.33) - 0.595).abs() < 1e-12);
         assert!((duration_guess(0.73) - 0.70).abs() < 1e-12);
@@ -252,6 +281,85 @@ pub enum ContinuationKind {
     FullSolution,
     /// Only the joint positions (re-filtered and splined); muscle and arm parts as usual.
     PartialSolution,
+}
+
+/// Where a solve's initial point came from: a guess built from the settings alone or a
+/// continuation from a neighbouring solution. Written as its study-file name
+/// (`quasi-random`, `data-informed-walking`, `data-informed-running`, `full-os`,
+/// `partial-os`) in `summary.json`, case records and file names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(into = "String", try_from = "String")]
+pub enum InitialGuess {
+    /// A guess built from the settings alone (quasi-random, data-informed walking or running).
+    Standard(GuessKind),
+    /// A guess built from the solution of a neighbouring case.
+    Continuation(ContinuationKind),
+}
+
+impl InitialGuess {
+    /// Parse a guess name as written in study files (also the short tags `qr`,
+    /// `di-walking`, `di-running`, and `full-solution`, `partial-solution`).
+    pub fn parse(s: &str) -> Option<Self> {
+        Some(match s.trim() {
+            "quasi-random" | "qr" => Self::Standard(GuessKind::QuasiRandom),
+            "data-informed-walking" | "di-walking" => {
+                Self::Standard(GuessKind::DataInformedWalking)
+            }
+            "data-informed-running" | "di-running" => {
+                Self::Standard(GuessKind::DataInformedRunning)
+            }
+            "full-os" | "full-solution" => Self::Continuation(ContinuationKind::FullSolution),
+            "partial-os" | "partial-solution" => {
+                Self::Continuation(ContinuationKind::PartialSolution)
+            }
+            _ => return None,
+        })
+    }
+
+    /// Short tag used in case names.
+    pub fn tag(&self) -> &'static str {
+        match self {
+            Self::Standard(GuessKind::QuasiRandom) => "qr",
+            Self::Standard(GuessKind::DataInformedWalking) => "diw",
+            Self::Standard(GuessKind::DataInformedRunning) => "dir",
+            Self::Continuation(ContinuationKind::FullSolution) => "fos",
+            Self::Continuation(ContinuationKind::PartialSolution) => "pos",
+        }
+    }
+
+    /// Whether the guess needs a finished neighbouring solution.
+    pub fn is_continuation(&self) -> bool {
+        matches!(self, Self::Continuation(_))
+    }
+}
+
+impl std::fmt::Display for InitialGuess {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Standard(g) => write!(f, "{g}"),
+            Self::Continuation(ContinuationKind::FullSolution) => f.write_str("full-os"),
+            Self::Continuation(ContinuationKind::PartialSolution) => f.write_str("partial-os"),
+        }
+    }
+}
+
+impl From<GuessKind> for InitialGuess {
+    fn from(g: GuessKind) -> Self {
+        Self::Standard(g)
+    }
+}
+
+impl From<InitialGuess> for String {
+    fn from(g: InitialGuess) -> String {
+        g.to_string()
+    }
+}
+
+impl TryFrom<String> for InitialGuess {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        Self::parse(&s).ok_or_else(|| format!("unknown initial guess `{s}`"))
+    }
 }
 
 /// Why a continuation guess could not be built from a solution.

@@ -4,7 +4,7 @@
 use crate::data;
 use crate::experimental::Kinematics;
 use crate::figures::{self, CycleTables};
-use crate::guess::GuessKind;
+use crate::guess::{GuessKind, InitialGuess};
 use crate::node::NodeModel;
 use crate::problem::{GaitProblem, ProblemError};
 use crate::settings::{CycleKind, ProblemSettings};
@@ -44,8 +44,8 @@ pub enum PredictError {
 /// Outcome of one solve from one initial guess.
 #[derive(Clone, Debug, Serialize)]
 pub struct GuessReport {
-    /// The initial guess.
-    pub guess: GuessKind,
+    /// The initial guess (standard or continuation).
+    pub guess: InitialGuess,
     /// Solver status.
     pub status: String,
     /// Whether it converged.
@@ -78,9 +78,9 @@ pub struct GuessReport {
 
 impl GuessReport {
     /// The report of a finished solve from `guess`.
-    pub fn new(guess: GuessKind, r: &SolveResult) -> Self {
+    pub fn new(guess: impl Into<InitialGuess>, r: &SolveResult) -> Self {
         GuessReport {
-            guess,
+            guess: guess.into(),
             status: format!("{:?}", r.status),
             converged: r.status.is_success(),
             iterations: r.iterations,
@@ -105,7 +105,7 @@ impl GuessReport {
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
     /// Which guess was kept.
-    pub kept_guess: Option<GuessKind>,
+    pub kept_guess: Option<InitialGuess>,
     /// Every guess's solve.
     pub guesses: Vec<GuessReport>,
     /// Solver backend.

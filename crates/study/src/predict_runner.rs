@@ -11,7 +11,7 @@ use std::path::Path;
 use std::sync::Arc;
 use stride_model::storage::write_atomic;
 use stride_model::Model;
-use stride_ocp::guess::{ContinuationKind, GuessKind};
+use stride_ocp::guess::ContinuationKind;
 use stride_ocp::measures::ConditionMeasures;
 use stride_ocp::node::NodeModel;
 use stride_ocp::predict::{self, GuessReport, Solved};
@@ -89,12 +89,12 @@ impl PredictRunner {
     }
 
     /// Solve a problem from an explicit initial point (what `solve_guesses` does for the
-    /// standard guesses); `label` is the guess recorded in predict's summary.
+    /// standard guesses); `label` is the guess recorded in the summary and log file name.
     fn solve_from(
         &self,
         problem: &GaitProblem,
         x0: Vec<f64>,
-        label: GuessKind,
+        label: CaseGuess,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<Solved, String> {
         let node = NodeModel::new(problem).map_err(err)?;
@@ -166,9 +166,7 @@ impl CaseRunner for PredictRunner {
                 .map_err(err)?;
                 let src = source.ok_or("continuation guess without a source case")?;
                 let x0 = self.continuation_guess(&problem, kind, src)?;
-                // predict's summary can only name the three standard guesses; the case
-                // record names the real one.
-                let s = self.solve_from(&problem, x0, GuessKind::QuasiRandom, progress)?;
+                let s = self.solve_from(&problem, x0, case.guess, progress)?;
                 (problem, vec![s])
             }
         };

@@ -4,7 +4,6 @@
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use stride_ocp::guess::{ContinuationKind, GuessKind};
 use stride_ocp::settings::ProblemSettings;
 use toml::Value;
 
@@ -107,61 +106,8 @@ fn default_guesses() -> Vec<String> {
     vec!["quasi-random".into(), "data-informed-walking".into()]
 }
 
-/// The initial guess of one case.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum CaseGuess {
-    /// A guess built from the settings alone (QR, DI walking, DI running).
-    Standard(GuessKind),
-    /// A guess built from the solution of a neighbouring case.
-    Continuation(ContinuationKind),
-}
-
-impl CaseGuess {
-    /// Parse a guess name as written in study files.
-    pub fn parse(s: &str) -> Option<Self> {
-        Some(match s.trim() {
-            "quasi-random" | "qr" => Self::Standard(GuessKind::QuasiRandom),
-            "data-informed-walking" | "di-walking" => {
-                Self::Standard(GuessKind::DataInformedWalking)
-            }
-            "data-informed-running" | "di-running" => {
-                Self::Standard(GuessKind::DataInformedRunning)
-            }
-            "full-os" | "full-solution" => Self::Continuation(ContinuationKind::FullSolution),
-            "partial-os" | "partial-solution" => {
-                Self::Continuation(ContinuationKind::PartialSolution)
-            }
-            _ => return None,
-        })
-    }
-
-    /// Short tag used in case names.
-    pub fn tag(&self) -> &'static str {
-        match self {
-            Self::Standard(GuessKind::QuasiRandom) => "qr",
-            Self::Standard(GuessKind::DataInformedWalking) => "diw",
-            Self::Standard(GuessKind::DataInformedRunning) => "dir",
-            Self::Continuation(ContinuationKind::FullSolution) => "fos",
-            Self::Continuation(ContinuationKind::PartialSolution) => "pos",
-        }
-    }
-
-    /// Whether the guess needs a finished neighbouring case.
-    pub fn is_continuation(&self) -> bool {
-        matches!(self, Self::Continuation(_))
-    }
-}
-
-impl std::fmt::Display for CaseGuess {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Standard(g) => write!(f, "{g}"),
-            Self::Continuation(ContinuationKind::FullSolution) => f.write_str("full-os"),
-            Self::Continuation(ContinuationKind::PartialSolution) => f.write_str("partial-os"),
-        }
-    }
-}
+/// The initial guess of one case (its name in study files, its tag in case names).
+pub use stride_ocp::guess::InitialGuess as CaseGuess;
 
 /// One case of a study: complete settings and one initial guess.
 #[derive(Clone, Debug, PartialEq, Serialize)]

@@ -67,6 +67,21 @@ guesses = ["quasi-random", "full-os", "partial-os"]
         assert!(out.join("cases").join(name).join(SOLUTION_FILE).exists());
         assert!(out.join("cases").join(name).join("summary.json").exists());
     }
+    // Each case's summary and solver log name the guess it really started from.
+    for (name, guess) in [
+        ("speed_1.33__qr", "quasi-random"),
+        ("speed_1.43__fos", "full-os"),
+        ("speed_1.43__pos", "partial-os"),
+    ] {
+        let dir = out.join("cases").join(name);
+        let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+        let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(s["guesses"][0]["guess"], guess, "{name}");
+        assert!(
+            dir.join(format!("solver_log_{guess}.csv")).exists(),
+            "{name}"
+        );
+    }
     let fos = store.record("speed_1.43__fos").unwrap();
     assert_eq!(fos.continued_from.as_deref(), Some("speed_1.33__qr"));
     let report = stride_study::analysis::report_folder(&out).unwrap();
