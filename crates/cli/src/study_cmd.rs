@@ -7,7 +7,9 @@ use clap::Args;
 use std::path::{Path, PathBuf};
 use stride_solve::solver::SolverOptions;
 use stride_study::analysis;
-use stride_study::predict_runner::{check_cases, measures_from_solution, PredictRunner};
+use stride_study::predict_runner::{
+    check_cases, measures_from_solution, rewrite_case, PredictRunner, Rewritten,
+};
 use stride_study::runner::{run_study, RunOptions};
 use stride_study::spec;
 use stride_study::store::Store;
@@ -53,6 +55,10 @@ pub struct StudyArgs {
 pub struct ReportArgs {
     /// Output folder of a study.
     pub folder: PathBuf,
+    /// First rewrite every finished case's result files (motion, tables, figures, outcomes)
+    /// from its solution with this version's definitions; solver logs and times are kept.
+    #[arg(long)]
+    pub rewrite_cases: bool,
 }
 
 /// Run `stride study`.
@@ -203,11 +209,47 @@ fn study_model(path: Option<&Path>) -> anyhow::Result<stride_model::Model> {
     })
 }
 
+/// Rewrite the result files of every finished case of a study folder from its solution;
+/// an error names every case that could not be rewritten (those folders are unchanged).
+fn rewrite_cases(
+    model: &stride_model::Model,
+    study: &spec::Study,
+    folder: &Path,
+) -> anyhow::Result<()> {
+    let (mut done, mut skipped, mut failed) = (0, 0, Vec::new());
+    for case in &study.cases {
+        let dir = folder.join("cases").join(&case.name);
+        if !dir.is_dir() {
+            continue;
+        }
+        match rewrite_case(model, &dir) {
+            Ok(Rewritten::Rewritten) => {
+                done += 1;
+                println!("rewrote {}", dir.display());
+            }
+            Ok(Rewritten::NoSolution) => skipped += 1,
+            Err(e) => failed.push(format!("{}: {e}", case.name)),
+        }
+    }
+    println!("{done} case folders rewritten, {skipped} without a kept solution left as they are");
+    if !failed.is_empty() {
+        anyhow::bail!(
+            "{} case folders could not be rewritten (left unchanged):\n  {}",
+            failed.len(),
+            failed.join("\n  ")
+        );
+    }
+    Ok(())
+}
+
 /// Run `stride report`.
 pub fn report(args: ReportArgs) -> anyhow::Result<()> {
     // The condition measures are recomputed from the case solutions with the study's model.
     let study = spec::load(&args.folder.join("study.toml"))?;
     let model = study_model(study.header.model.as_deref())?;
+    if args.rewrite_cases {
+        rewrite_cases(&model, &study, &args.folder)?;
+    }
     let recompute = |dir: &Path| measures_from_solution(&model, dir);
     let report = analysis::report_folder_with(&args.folder, Some(&recompute))?;
     println!(

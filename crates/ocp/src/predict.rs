@@ -31,6 +31,14 @@ pub enum PredictError {
     /// The solver refused the problem.
     #[error("solver: {0}")]
     Solver(String),
+    /// Reading earlier results failed.
+    #[error("reading {path}: {reason}")]
+    Read {
+        /// Path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
     /// Writing results failed.
     #[error("writing {path}: {reason}")]
     Write {
@@ -335,6 +343,70 @@ pub fn write_results(
             Err(e)
         }
     }
+}
+
+/// Rewrite the reconstructed-cycle files of a result folder (motion, ground reaction
+/// forces, tables, figures) and the outcomes in its `summary.json` from the solution `x`
+/// (scaled NLP vector) with the current definitions; every other file is kept as it is.
+/// `also` may add or replace files in the new folder (it gets the cycle). The new folder is
+/// built beside `out` and swapped in: an interruption leaves the old folder or the new one.
+pub fn rewrite_results(
+    problem: &GaitProblem,
+    x: &[f64],
+    out: &Path,
+    also: impl FnOnce(&Trajectory, &Path) -> Result<(), PredictError>,
+) -> Result<Outcomes, PredictError> {
+    let summary_path = out.join("summary.json");
+    let read_err = |e: &dyn std::fmt::Display| PredictError::Read {
+        path: summary_path.display().to_string(),
+        reason: e.to_string(),
+    };
+    let text = std::fs::read_to_string(&summary_path).map_err(|e| read_err(&e))?;
+    let mut summary: serde_json::Value = serde_json::from_str(&text).map_err(|e| read_err(&e))?;
+    if !summary.is_object() {
+        return Err(read_err(&"not a JSON object"));
+    }
+    let node = NodeModel::new(problem)?;
+    let mesh = problem.mesh_solution(&node, x)?;
+    let cycle = problem.gait_cycle(&mesh);
+    let outcomes = problem.outcomes(&node, &mesh, &cycle)?;
+    let name = out.file_name().and_then(|s| s.to_str()).unwrap_or("out");
+    let parent = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let tmp = parent.join(format!(".{name}.rewrite-{}", std::process::id()));
+    let old = parent.join(format!(".{name}.old-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    std::fs::create_dir_all(&tmp).map_err(|e| write_err(&tmp, e))?;
+    let result = (|| {
+        for entry in std::fs::read_dir(out).map_err(|e| write_err(out, e))? {
+            let entry = entry.map_err(|e| write_err(out, e))?;
+            if entry.file_type().map_err(|e| write_err(out, e))?.is_file() {
+                let dst = tmp.join(entry.file_name());
+                std::fs::copy(entry.path(), &dst).map_err(|e| write_err(&dst, e))?;
+            }
+        }
+        write_cycle(problem, &node, &cycle, &tmp)?;
+        summary["outcomes"] =
+            serde_json::to_value(&outcomes).map_err(|e| write_err(&summary_path, e))?;
+        let p = tmp.join("summary.json");
+        let json = serde_json::to_string_pretty(&summary).map_err(|e| write_err(&p, e))?;
+        write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
+        also(&cycle, &tmp)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Err(e);
+    }
+    let _ = std::fs::remove_dir_all(&old);
+    std::fs::rename(out, &old).map_err(|e| write_err(out, e))?;
+    if let Err(e) = std::fs::rename(&tmp, out) {
+        let _ = std::fs::rename(&old, out);
+        return Err(write_err(out, e));
+    }
+    let _ = std::fs::remove_dir_all(&old);
+    Ok(outcomes)
 }
 
 fn csv(labels: &[String], time: &[f64], rows: &[Vec<f64>]) -> String {

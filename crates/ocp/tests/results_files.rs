@@ -109,5 +109,70 @@ fn results_are_valid_storage_files() {
         .filter(|e| e.file_name().to_string_lossy().contains("partial"))
         .collect();
     assert!(leftovers.is_empty());
+
+    // Rewriting the folder from the same solution gives back the cycle files as written
+    // (here: a table edited by hand, the outcomes removed from summary.json), keeps the
+    // other files (the solver log, a user's note) and lets the caller add files.
+    let angles = std::fs::read_to_string(out.join("joint_angles.csv")).unwrap();
+    let log = std::fs::read_to_string(out.join("solver_log_data-informed-walking.csv")).unwrap();
+    std::fs::write(out.join("joint_angles.csv"), "stale").unwrap();
+    std::fs::write(out.join("note.txt"), "kept").unwrap();
+    let mut summary_json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    summary_json["outcomes"] = serde_json::Value::Null;
+    std::fs::write(out.join("summary.json"), summary_json.to_string()).unwrap();
+    let x = &solved[0].result.x;
+    let rewritten = predict::rewrite_results(&problem, x, &out, |cycle, tmp| {
+        std::fs::write(tmp.join("extra.txt"), format!("{}", cycle.time.len())).unwrap();
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!(rewritten.stride_length, o.stride_length);
+    assert_eq!(
+        std::fs::read_to_string(out.join("joint_angles.csv")).unwrap(),
+        angles
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("solver_log_data-informed-walking.csv")).unwrap(),
+        log
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("note.txt")).unwrap(),
+        "kept"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("extra.txt")).unwrap(),
+        "20"
+    );
+    let after: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        after["outcomes"]["stride_length"].as_f64(),
+        Some(o.stride_length)
+    );
+    assert_eq!(after["guesses"][0]["guess"], "data-informed-walking");
+    // A failure while rewriting leaves the folder as it was, with no temporary folder.
+    std::fs::write(out.join("joint_angles.csv"), "stale").unwrap();
+    let e = predict::rewrite_results(&problem, x, &out, |_, tmp| {
+        Err(predict::PredictError::Write {
+            path: tmp.display().to_string(),
+            reason: "test".into(),
+        })
+    })
+    .unwrap_err();
+    assert!(e.to_string().contains("test"), "{e}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("joint_angles.csv")).unwrap(),
+        "stale"
+    );
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["run"], "only the result folder remains");
+    // A folder without summary.json is an error that names the file.
+    std::fs::remove_file(out.join("summary.json")).unwrap();
+    let e = predict::rewrite_results(&problem, x, &out, |_, _| Ok(())).unwrap_err();
+    assert!(e.to_string().starts_with("reading ") && e.to_string().contains("summary.json"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

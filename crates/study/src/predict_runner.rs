@@ -222,10 +222,8 @@ impl CaseRunner for PredictRunner {
     }
 }
 
-/// Condition measures (`stride_ocp::measures`) of a finished case recomputed from its
-/// `solution.json`, so that a report uses the current definitions for cases solved by an
-/// earlier version.
-pub fn measures_from_solution(model: &Model, dir: &Path) -> Result<ConditionMeasures, String> {
+/// A case folder's `solution.json` and the problem of its settings, checked to fit.
+fn solution_problem(model: &Model, dir: &Path) -> Result<(SolutionFile, GaitProblem), String> {
     let sol = read_solution(dir)?;
     let problem = GaitProblem::new(model, &sol.settings, &predict::bounds_data(&sol.settings))
         .map_err(err)?;
@@ -237,11 +235,59 @@ pub fn measures_from_solution(model: &Model, dir: &Path) -> Result<ConditionMeas
             problem.layout.len()
         ));
     }
+    Ok((sol, problem))
+}
+
+/// Condition measures (`stride_ocp::measures`) of a finished case recomputed from its
+/// `solution.json`, so that a report uses the current definitions for cases solved by an
+/// earlier version.
+pub fn measures_from_solution(model: &Model, dir: &Path) -> Result<ConditionMeasures, String> {
+    let (sol, problem) = solution_problem(model, dir)?;
     let node = NodeModel::new(&problem).map_err(err)?;
     let mesh = problem.mesh_solution(&node, &sol.x).map_err(err)?;
     problem
         .condition_measures(&problem.gait_cycle(&mesh))
         .map_err(err)
+}
+
+/// What [`rewrite_case`] did with a case folder.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rewritten {
+    /// The cycle files, outcomes and solution cycle were rewritten.
+    Rewritten,
+    /// The folder has no kept solution (not converged, or no `solution.json`): untouched.
+    NoSolution,
+}
+
+/// Rewrite a finished case folder's result files (motion, tables, figures, outcomes in
+/// `summary.json`) and the cycle of its `solution.json` from its solution with the current
+/// definitions, e.g. after a change in how the gait cycle is reconstructed. The solver
+/// files (logs, iterations, times) are kept; the folder is swapped in whole.
+pub fn rewrite_case(model: &Model, dir: &Path) -> Result<Rewritten, String> {
+    let summary = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+    let kept = summary.is_some_and(|s| !s["kept_guess"].is_null());
+    if !kept || !dir.join(SOLUTION_FILE).exists() {
+        return Ok(Rewritten::NoSolution);
+    }
+    let (mut sol, problem) = solution_problem(model, dir)?;
+    let x = sol.x.clone();
+    predict::rewrite_results(&problem, &x, dir, |cycle, tmp| {
+        sol.cycle_time.clone_from(&cycle.time);
+        sol.cycle_q.clone_from(&cycle.q);
+        let p = tmp.join(SOLUTION_FILE);
+        let json = serde_json::to_string(&sol).map_err(|e| predict::PredictError::Write {
+            path: p.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        write_atomic(&p, json.as_bytes()).map_err(|e| predict::PredictError::Write {
+            path: p.display().to_string(),
+            reason: e.to_string(),
+        })
+    })
+    .map_err(err)?;
+    Ok(Rewritten::Rewritten)
 }
 
 /// Build every case's problem once (model changes, bounds) so that a case the model cannot

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::time::Duration;
 use stride_solve::solver::{MuStrategy, SolverOptions};
 use stride_study::predict_runner::{
-    check_cases, measures_from_solution, PredictRunner, SOLUTION_FILE,
+    check_cases, measures_from_solution, rewrite_case, PredictRunner, Rewritten, SOLUTION_FILE,
 };
 use stride_study::runner::{run_study, RunOptions};
 use stride_study::spec;
@@ -91,7 +91,30 @@ guesses = ["quasi-random", "full-os", "partial-os"]
     let case = out.join("cases").join("speed_1.33__qr");
     let m = measures_from_solution(&runner.model, &case).unwrap();
     assert!(m.trunk_sway.is_some_and(|s| s.is_finite() && s >= 0.0));
+    // Rewriting case folders: one without a kept solution is left as it is; one with a kept
+    // solution (here the unconverged iterate marked as kept) gets the cycle files and a
+    // solution whose cycle is the reconstructed one.
+    let pos = out.join("cases").join("speed_1.43__pos");
+    assert_eq!(rewrite_case(&runner.model, &pos), Ok(Rewritten::NoSolution));
+    assert!(!pos.join("motion.mot").exists());
+    let summary_path = case.join("summary.json");
+    let mut summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary_path).unwrap()).unwrap();
+    summary["kept_guess"] = "quasi-random".into();
+    std::fs::write(&summary_path, summary.to_string()).unwrap();
+    assert_eq!(rewrite_case(&runner.model, &case), Ok(Rewritten::Rewritten));
+    assert!(case.join("motion.mot").exists() && case.join("joint_angles.csv").exists());
+    let rewritten: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary_path).unwrap()).unwrap();
+    assert!(rewritten["outcomes"]["stride_length"].is_number());
     let text = std::fs::read_to_string(case.join(SOLUTION_FILE)).unwrap();
+    let sol: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(
+        sol["cycle_time"].as_array().unwrap().len(),
+        16,
+        "full cycle = 2N"
+    );
+    assert!(case.join("solver_log_quasi-random.csv").exists());
     let mut sol: serde_json::Value = serde_json::from_str(&text).unwrap();
     sol["x"].as_array_mut().unwrap().pop();
     let bad = out.join("bad");
