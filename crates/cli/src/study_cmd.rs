@@ -168,6 +168,16 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
 }
 
 fn print_series(report: &analysis::Report) {
+    let finished = report.converged + report.failed;
+    if finished > 0 {
+        let mean = report.case_time_s / finished as f64;
+        println!(
+            "case wall time: {:.2} h over {finished} finished cases, {:.1} min per case, {:.1} cases per hour one at a time",
+            report.case_time_s / 3600.0,
+            mean / 60.0,
+            3600.0 / mean
+        );
+    }
     // Studies without a speed axis: one line per condition against the reference.
     if let (true, Some(t)) = (report.speed_series.is_empty(), &report.conditions) {
         println!("conditions (change from the reference in parentheses):");

@@ -248,6 +248,9 @@ pub struct Report {
     pub failed: usize,
     /// Cases not run.
     pub not_run: usize,
+    /// Wall time of the finished (converged or failed) cases, summed [s]: with `jobs`
+    /// cases at a time the study's wall time is about this divided by `jobs`.
+    pub case_time_s: f64,
     /// Selected case per group.
     pub selected: Vec<Selected>,
     /// Speed series (studies with a speed axis).
@@ -331,6 +334,7 @@ pub fn build_report(name: &str, cases: &[Case], records: &[Option<CaseRecord>]) 
         converged: count(CaseStatus::Converged),
         failed: count(CaseStatus::Failed),
         not_run: records.iter().filter(|r| r.is_none()).count(),
+        case_time_s: records.iter().flatten().map(|r| r.time_s).sum(),
         selected,
         speed_series,
         conditions: None,

@@ -367,6 +367,13 @@ speed = [0.73, 0.93, 1.13, 1.33, 1.53, 1.73, 1.93, 2.13, 2.33, 2.53, 2.73]
     run_study(&study, &store, &Fake::new(), &opts(2)).unwrap();
     let report = stride_study::analysis::report_folder(&out).unwrap();
     assert_eq!(report.cases, 22);
+    // The cases' wall times add up to the report's total.
+    let total: f64 = study
+        .cases
+        .iter()
+        .map(|c| store.record(&c.name).unwrap().time_s)
+        .sum();
+    assert!(total > 0.0 && (report.case_time_s - total).abs() < 1e-12);
     assert_eq!(report.selected.len(), 11);
     assert!(report
         .selected
