@@ -144,6 +144,11 @@ pub struct SolverOptions {
     pub nlp_scaling_max_gradient: f64,
     /// Bound push/frac for moving the initial point into the interior (default 1e-2).
     pub bound_push: f64,
+    /// Initial bound multipliers μ_init / (distance to the bound)
+    /// instead of 1, so that a starting point near an optimum (a continuation guess) starts
+    /// on the central path of a small `mu_init` instead of far from it (default false; use
+    /// with a small `mu_init` and `bound_push`; IPOPT: `bound_mult_init_method mu-based`).
+    pub warm_start: bool,
     /// Worker threads for the problem's function evaluations during a solve: stride's
     /// predictions and studies run each solve in a thread pool of this size (0: one thread
     /// per core). The backends' KKT factorisations run on one thread.
@@ -195,6 +200,7 @@ impl Default for SolverOptions {
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
             bound_push: 1e-2,
+            warm_start: false,
             threads: 1,
         }
     }

@@ -37,6 +37,11 @@ pub struct SolutionFile {
     pub cycle_q: Vec<Vec<f64>>,
 }
 
+/// Initial barrier parameter of a full-solution continuation.
+const WARM_START_MU: f64 = 1e-4;
+/// Bound push of a full-solution continuation (relative to the bound's magnitude).
+const WARM_START_BOUND_PUSH: f64 = 1e-6;
+
 /// Runs cases with `stride_ocp::predict` and a solver backend.
 pub struct PredictRunner {
     /// Musculoskeletal model.
@@ -95,13 +100,14 @@ impl PredictRunner {
         problem: &GaitProblem,
         x0: Vec<f64>,
         label: CaseGuess,
+        options: &SolverOptions,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<Solved, String> {
         let node = NodeModel::new(problem).map_err(err)?;
         let tape = Arc::new(TapeNode::for_problem(problem, &node, &x0).map_err(err)?);
         let tr = Transcription::new(problem.clone(), tape, x0);
-        let r = predict::with_threads(self.options.threads, || {
-            self.solver.solve(&tr, &self.options, &mut |rec| {
+        let r = predict::with_threads(options.threads, || {
+            self.solver.solve(&tr, options, &mut |rec| {
                 progress(rec.iter);
                 ControlFlow::Continue(())
             })
@@ -112,6 +118,18 @@ impl PredictRunner {
             report: GuessReport::new(label, &r),
             result: r,
         })
+    }
+}
+
+/// Solver options of a full-solution continuation: the start is a neighbouring optimum, so
+/// the interior point starts on the central path of a small μ with the variables barely
+/// pushed from their bounds instead of re-centring far from it.
+fn warm_start_options(options: &SolverOptions) -> SolverOptions {
+    SolverOptions {
+        warm_start: true,
+        mu_init: WARM_START_MU,
+        bound_push: WARM_START_BOUND_PUSH,
+        ..options.clone()
     }
 }
 
@@ -147,13 +165,19 @@ impl CaseRunner for PredictRunner {
         dir: &Path,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<CaseOutcome, String> {
+        let options = match case.guess {
+            CaseGuess::Continuation(ContinuationKind::FullSolution) => {
+                warm_start_options(&self.options)
+            }
+            _ => self.options.clone(),
+        };
         let (problem, solved) = match case.guess {
             CaseGuess::Standard(g) => predict::solve_guesses(
                 &self.model,
                 &case.settings,
                 &[g],
                 self.solver.as_ref(),
-                &self.options,
+                &options,
                 &|_, rec| progress(rec.iter),
             )
             .map_err(err)?,
@@ -166,20 +190,14 @@ impl CaseRunner for PredictRunner {
                 .map_err(err)?;
                 let src = source.ok_or("continuation guess without a source case")?;
                 let x0 = self.continuation_guess(&problem, kind, src)?;
-                let s = self.solve_from(&problem, x0, case.guess, progress)?;
+                let s = self.solve_from(&problem, x0, case.guess, &options, progress)?;
                 (problem, vec![s])
             }
         };
         let kept = predict::select(&solved);
-        let summary = predict::write_results(
-            &problem,
-            &solved,
-            kept,
-            self.solver.name(),
-            &self.options,
-            dir,
-        )
-        .map_err(err)?;
+        let summary =
+            predict::write_results(&problem, &solved, kept, self.solver.name(), &options, dir)
+                .map_err(err)?;
         let s = &solved[0];
         let mut outcome = CaseOutcome {
             converged: s.report.converged,

@@ -81,6 +81,15 @@ guesses = ["quasi-random", "full-os", "partial-os"]
             dir.join(format!("solver_log_{guess}.csv")).exists(),
             "{name}"
         );
+        // a full-solution continuation starts warm (small μ, bound multipliers on its
+        // central path), and its summary records the options it was solved with
+        let warm = &s["solver_options"];
+        assert_eq!(warm["warm_start"], guess == "full-os", "{name}");
+        assert_eq!(
+            warm["mu_init"].as_f64() == Some(0.1),
+            guess != "full-os",
+            "{name}"
+        );
     }
     let fos = store.record("speed_1.43__fos").unwrap();
     assert_eq!(fos.continued_from.as_deref(), Some("speed_1.33__qr"));

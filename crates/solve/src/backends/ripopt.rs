@@ -51,6 +51,14 @@ pub fn ripopt_options(o: &SolverOptions) -> Result<ripopt::SolverOptions, SolveE
         });
     }
     super::setup::reject_ipm_only(o, "ripopt")?;
+    if o.warm_start {
+        return Err(SolveError::InvalidOption {
+            name: "warm_start",
+            reason: "ripopt always starts its bound multipliers at 1; use the stride-ipm or \
+                     IPOPT backend for a warm start"
+                .into(),
+        });
+    }
     let mut r = ripopt::SolverOptions {
         tol: o.tol,
         max_iter: o.max_iter,

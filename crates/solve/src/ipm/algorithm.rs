@@ -984,9 +984,25 @@ pub fn solve(
     for (k, &i) in st.row_of_slack.clone().iter().enumerate() {
         st.w[n + k] = push(st.wl[n + k], st.wu[n + k], st.c[i]);
     }
+    // bound multipliers: 1 (IPOPT), or on the central path of μ_init for a warm start
+    let z_init = |gap: f64| {
+        if options.warm_start {
+            options.mu_init / gap.max(f64::MIN_POSITIVE)
+        } else {
+            1.0
+        }
+    };
     for j in 0..big_n {
-        st.zl[j] = if st.has_l[j] { 1.0 } else { 0.0 };
-        st.zu[j] = if st.has_u[j] { 1.0 } else { 0.0 };
+        st.zl[j] = if st.has_l[j] {
+            z_init(st.w[j] - st.wl[j])
+        } else {
+            0.0
+        };
+        st.zu[j] = if st.has_u[j] {
+            z_init(st.wu[j] - st.w[j])
+        } else {
+            0.0
+        };
     }
     if exact {
         let (w, lam) = (st.w[..n].to_vec(), st.lam.clone());

@@ -364,6 +364,143 @@ fn max_iterations_is_reported() {
     assert_eq!(run(&Hs071, &o).status, SolveStatus::MaxIterations);
 }
 
+/// A problem started from a given point instead of its own initial guess.
+struct StartAt<'a> {
+    nlp: &'a dyn Nlp,
+    x0: Vec<f64>,
+}
+
+impl Nlp for StartAt<'_> {
+    fn n(&self) -> usize {
+        self.nlp.n()
+    }
+    fn m(&self) -> usize {
+        self.nlp.m()
+    }
+    fn bounds(&self, x_l: &mut [f64], x_u: &mut [f64], g_l: &mut [f64], g_u: &mut [f64]) {
+        self.nlp.bounds(x_l, x_u, g_l, g_u)
+    }
+    fn initial_point(&self, x: &mut [f64]) {
+        x.copy_from_slice(&self.x0)
+    }
+    fn objective(&self, x: &[f64]) -> Result<f64, EvalError> {
+        self.nlp.objective(x)
+    }
+    fn gradient(&self, x: &[f64], g: &mut [f64]) -> Result<(), EvalError> {
+        self.nlp.gradient(x, g)
+    }
+    fn constraints(&self, x: &[f64], c: &mut [f64]) -> Result<(), EvalError> {
+        self.nlp.constraints(x, c)
+    }
+    fn jacobian_structure(&self) -> Sparsity {
+        self.nlp.jacobian_structure()
+    }
+    fn jacobian_values(&self, x: &[f64], v: &mut [f64]) -> Result<(), EvalError> {
+        self.nlp.jacobian_values(x, v)
+    }
+    fn hessian_structure(&self) -> Sparsity {
+        self.nlp.hessian_structure()
+    }
+    fn hessian_values(
+        &self,
+        x: &[f64],
+        obj_factor: f64,
+        lambda: &[f64],
+        v: &mut [f64],
+    ) -> Result<(), EvalError> {
+        self.nlp.hessian_values(x, obj_factor, lambda, v)
+    }
+    fn blocks(&self) -> Option<crate::nlp::BlockStructure> {
+        self.nlp.blocks()
+    }
+}
+
+#[test]
+fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_optimum() {
+    // Continuation as in a speed sweep: the optimum of one problem starts a neighbouring
+    // one (here a stiffer spring between the pendulums). With the default start the
+    // interior point re-centres far from that point; with a warm start (bound multipliers
+    // on the central path of a small μ, variables barely pushed) it stays near it.
+    let base = PendulumChain::new(4, 20);
+    let stiffer = PendulumChain {
+        stiffness: 0.6,
+        ..base.clone()
+    };
+    for (name, opts) in [
+        ("monotone", SolverOptions::default()),
+        (
+            "adaptive",
+            SolverOptions {
+                mu_strategy: MuStrategy::Adaptive,
+                ..SolverOptions::default()
+            },
+        ),
+    ] {
+        let x0 = run(&base, &opts).x;
+        let reference = run(&stiffer, &opts);
+        assert!(reference.status.is_success(), "{name}");
+        let start = StartAt { nlp: &stiffer, x0 };
+        let cold = run(&start, &opts);
+        let warm = run(
+            &start,
+            &SolverOptions {
+                warm_start: true,
+                mu_init: 1e-6,
+                bound_push: 1e-8,
+                ..opts.clone()
+            },
+        );
+        eprintln!(
+            "{name}: reference {} it, from the neighbouring optimum cold {} it, warm {} it",
+            reference.iterations, cold.iterations, warm.iterations
+        );
+        for r in [&cold, &warm] {
+            assert!(r.status.is_success(), "{name}: {:?}", r.status);
+            assert!(
+                (r.objective - reference.objective).abs() <= 1e-6 * reference.objective.abs(),
+                "{name}: f = {} vs {}",
+                r.objective,
+                reference.objective
+            );
+        }
+        assert!(warm.iterations < cold.iterations, "{name}");
+    }
+    // With bounds active at the optimum (HS071: x₁ = 1 at its lower bound), started at the
+    // published optimum: the default start pushes x₁ into the interior and re-centres.
+    let x_opt = [1.0, 4.742_999_64, 3.821_149_98, 1.379_408_29];
+    let start = StartAt {
+        nlp: &Hs071,
+        x0: x_opt.to_vec(),
+    };
+    let opts = SolverOptions {
+        mu_strategy: MuStrategy::Adaptive,
+        ..SolverOptions::default()
+    };
+    let cold = run(&start, &opts);
+    let warm = run(
+        &start,
+        &SolverOptions {
+            warm_start: true,
+            mu_init: 1e-6,
+            bound_push: 1e-8,
+            ..opts
+        },
+    );
+    eprintln!(
+        "hs071 from its optimum: cold {} it, warm {} it",
+        cold.iterations, warm.iterations
+    );
+    for r in [&cold, &warm] {
+        assert!(r.status.is_success());
+        assert!(
+            (r.objective - 17.014_017_3).abs() < 1e-6,
+            "f = {}",
+            r.objective
+        );
+    }
+    assert!(warm.iterations < cold.iterations);
+}
+
 /// A wrapper that breaks one aspect of HS071.
 struct Broken {
     kind: u8,

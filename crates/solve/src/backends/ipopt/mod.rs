@@ -109,6 +109,10 @@ pub fn ipopt_options(
         ("bound_frac", Num(o.bound_push)),
         ("linear_solver", Str(linear_solver.into())),
     ];
+    if o.warm_start {
+        // bound multipliers μ_init / slack, as the pure-Rust interior point's warm start
+        v.push(("bound_mult_init_method", Str("mu-based".into())));
+    }
     match o.hessian {
         HessianMode::Exact => v.push(("hessian_approximation", Str("exact".into()))),
         HessianMode::LimitedMemory { history } => {
@@ -576,6 +580,17 @@ mod tests {
     fn hs071_limited_memory() {
         let o = SolverOptions {
             hessian: HessianMode::LimitedMemory { history: 6 },
+            ..SolverOptions::default()
+        };
+        assert_hs071(&run(&IpoptSolver::default(), &Hs071, &o));
+    }
+
+    #[test]
+    fn hs071_warm_start_option_is_accepted() {
+        // mu-based bound multipliers from a small μ: IPOPT takes the option and converges
+        let o = SolverOptions {
+            warm_start: true,
+            mu_init: 1e-3,
             ..SolverOptions::default()
         };
         assert_hs071(&run(&IpoptSolver::default(), &Hs071, &o));
