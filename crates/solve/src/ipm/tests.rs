@@ -415,6 +415,16 @@ impl Nlp for StartAt<'_> {
     }
 }
 
+/// `opts` with a warm start from a point near the optimum.
+fn warm(opts: &SolverOptions) -> SolverOptions {
+    SolverOptions {
+        warm_start: true,
+        mu_init: 1e-6,
+        bound_push: 1e-8,
+        ..opts.clone()
+    }
+}
+
 #[test]
 fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_optimum() {
     // Continuation as in a speed sweep: the optimum of one problem starts a neighbouring
@@ -441,15 +451,7 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
         assert!(reference.status.is_success(), "{name}");
         let start = StartAt { nlp: &stiffer, x0 };
         let cold = run(&start, &opts);
-        let warm = run(
-            &start,
-            &SolverOptions {
-                warm_start: true,
-                mu_init: 1e-6,
-                bound_push: 1e-8,
-                ..opts.clone()
-            },
-        );
+        let warm = run(&start, &warm(&opts));
         eprintln!(
             "{name}: reference {} it, from the neighbouring optimum cold {} it, warm {} it",
             reference.iterations, cold.iterations, warm.iterations
@@ -477,15 +479,7 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
         ..SolverOptions::default()
     };
     let cold = run(&start, &opts);
-    let warm = run(
-        &start,
-        &SolverOptions {
-            warm_start: true,
-            mu_init: 1e-6,
-            bound_push: 1e-8,
-            ..opts
-        },
-    );
+    let warm = run(&start, &warm(&opts));
     eprintln!(
         "hs071 from its optimum: cold {} it, warm {} it",
         cold.iterations, warm.iterations
