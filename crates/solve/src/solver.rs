@@ -361,6 +361,11 @@ pub enum SolveError {
 pub trait Solver {
     /// Short name of the backend (e.g. "stride-ipm").
     fn name(&self) -> &str;
+    /// Whether the backend takes [`SolverOptions::warm_start`] (bound multipliers on the
+    /// central path of μ_init); callers leave the option off otherwise.
+    fn supports_warm_start(&self) -> bool {
+        true
+    }
     /// Solves `nlp`, calling `observer` after every iteration (return `Break` to stop).
     fn solve(
         &self,

@@ -123,7 +123,8 @@ impl PredictRunner {
 
 /// Solver options of a full-solution continuation: the start is a neighbouring optimum, so
 /// the interior point starts on the central path of a small μ with the variables barely
-/// pushed from their bounds instead of re-centring far from it.
+/// pushed from their bounds instead of re-centring far from it (backends that cannot, such
+/// as ripopt, solve these cases cold).
 fn warm_start_options(options: &SolverOptions) -> SolverOptions {
     SolverOptions {
         warm_start: true,
@@ -166,7 +167,9 @@ impl CaseRunner for PredictRunner {
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<CaseOutcome, String> {
         let options = match case.guess {
-            CaseGuess::Continuation(ContinuationKind::FullSolution) => {
+            CaseGuess::Continuation(ContinuationKind::FullSolution)
+                if self.solver.supports_warm_start() =>
+            {
                 warm_start_options(&self.options)
             }
             _ => self.options.clone(),

@@ -208,6 +208,9 @@ impl Solver for RipoptSolver {
     fn name(&self) -> &str {
         "ripopt"
     }
+    fn supports_warm_start(&self) -> bool {
+        false
+    }
 
     fn solve(
         &self,
@@ -365,5 +368,19 @@ mod tests {
                 ..
             }
         ));
+        // no multiplier initialisation: the warm start is refused and not advertised
+        let o = SolverOptions {
+            warm_start: true,
+            ..SolverOptions::default()
+        };
+        let e = ripopt_options(&o).unwrap_err();
+        assert!(matches!(
+            e,
+            SolveError::InvalidOption {
+                name: "warm_start",
+                ..
+            }
+        ));
+        assert!(!RipoptSolver::default().supports_warm_start());
     }
 }

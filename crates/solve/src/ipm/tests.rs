@@ -431,6 +431,7 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
     // one (here a stiffer spring between the pendulums). With the default start the
     // interior point re-centres far from that point; with a warm start (bound multipliers
     // on the central path of a small μ, variables barely pushed) it stays near it.
+    assert!(InteriorPoint::new().supports_warm_start());
     let base = PendulumChain::new(4, 20);
     let stiffer = PendulumChain {
         stiffness: 0.6,
