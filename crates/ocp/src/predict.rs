@@ -347,7 +347,7 @@ pub fn write_results(
 
 /// Rewrite the reconstructed-cycle files of a result folder (motion, ground reaction
 /// forces, tables, figures) and the outcomes in its `summary.json` from the solution `x`
-/// (scaled NLP vector) with the current definitions; every other file is kept as it is.
+/// (scaled NLP vector) with the current definitions; every other file and subfolder is kept.
 /// `also` may add or replace files in the new folder (it gets the cycle). The new folder is
 /// built beside `out` and swapped in: an interruption leaves the old folder or the new one.
 pub fn rewrite_results(
@@ -380,13 +380,7 @@ pub fn rewrite_results(
     let _ = std::fs::remove_dir_all(&tmp);
     std::fs::create_dir_all(&tmp).map_err(|e| write_err(&tmp, e))?;
     let result = (|| {
-        for entry in std::fs::read_dir(out).map_err(|e| write_err(out, e))? {
-            let entry = entry.map_err(|e| write_err(out, e))?;
-            if entry.file_type().map_err(|e| write_err(out, e))?.is_file() {
-                let dst = tmp.join(entry.file_name());
-                std::fs::copy(entry.path(), &dst).map_err(|e| write_err(&dst, e))?;
-            }
-        }
+        copy_tree(out, &tmp)?;
         write_cycle(problem, &node, &cycle, &tmp)?;
         summary["outcomes"] =
             serde_json::to_value(&outcomes).map_err(|e| write_err(&summary_path, e))?;
@@ -407,6 +401,21 @@ pub fn rewrite_results(
     }
     let _ = std::fs::remove_dir_all(&old);
     Ok(outcomes)
+}
+
+/// Copy the files and subfolders of `from` into the existing folder `to`.
+fn copy_tree(from: &Path, to: &Path) -> Result<(), PredictError> {
+    for entry in std::fs::read_dir(from).map_err(|e| write_err(from, e))? {
+        let entry = entry.map_err(|e| write_err(from, e))?;
+        let dst = to.join(entry.file_name());
+        if entry.file_type().map_err(|e| write_err(from, e))?.is_dir() {
+            std::fs::create_dir(&dst).map_err(|e| write_err(&dst, e))?;
+            copy_tree(&entry.path(), &dst)?;
+        } else {
+            std::fs::copy(entry.path(), &dst).map_err(|e| write_err(&dst, e))?;
+        }
+    }
+    Ok(())
 }
 
 fn csv(labels: &[String], time: &[f64], rows: &[Vec<f64>]) -> String {

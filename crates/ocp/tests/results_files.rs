@@ -112,11 +112,13 @@ fn results_are_valid_storage_files() {
 
     // Rewriting the folder from the same solution gives back the cycle files as written
     // (here: a table edited by hand, the outcomes removed from summary.json), keeps the
-    // other files (the solver log, a user's note) and lets the caller add files.
+    // other files (the solver log, a user's note and subfolder) and lets the caller add files.
     let angles = std::fs::read_to_string(out.join("joint_angles.csv")).unwrap();
     let log = std::fs::read_to_string(out.join("solver_log_data-informed-walking.csv")).unwrap();
     std::fs::write(out.join("joint_angles.csv"), "stale").unwrap();
     std::fs::write(out.join("note.txt"), "kept").unwrap();
+    std::fs::create_dir(out.join("notes")).unwrap();
+    std::fs::write(out.join("notes").join("a.txt"), "kept too").unwrap();
     let mut summary_json: serde_json::Value = serde_json::from_str(&json).unwrap();
     summary_json["outcomes"] = serde_json::Value::Null;
     std::fs::write(out.join("summary.json"), summary_json.to_string()).unwrap();
@@ -138,6 +140,10 @@ fn results_are_valid_storage_files() {
     assert_eq!(
         std::fs::read_to_string(out.join("note.txt")).unwrap(),
         "kept"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes").join("a.txt")).unwrap(),
+        "kept too"
     );
     assert_eq!(
         std::fs::read_to_string(out.join("extra.txt")).unwrap(),
