@@ -264,6 +264,33 @@ impl Storage {
     }
 }
 
+/// Replace the folder `dst` by the complete folder `src` (a sibling of it): `dst`, if any,
+/// is moved aside, `src` renamed into its place and the old folder removed; if the rename
+/// fails, `dst` is put back. Readers see the old folder or the new one, never a mix.
+pub fn replace_dir(src: &Path, dst: &Path) -> std::io::Result<()> {
+    let name = dst.file_name().map(|n| n.to_string_lossy().into_owned());
+    let aside = dst.with_file_name(format!(
+        ".{}.old{}",
+        name.as_deref().unwrap_or("dir"),
+        std::process::id()
+    ));
+    let had_dst = dst.exists();
+    if had_dst {
+        let _ = std::fs::remove_dir_all(&aside);
+        std::fs::rename(dst, &aside)?;
+    }
+    if let Err(e) = std::fs::rename(src, dst) {
+        if had_dst {
+            let _ = std::fs::rename(&aside, dst);
+        }
+        return Err(e);
+    }
+    if had_dst {
+        let _ = std::fs::remove_dir_all(&aside);
+    }
+    Ok(())
+}
+
 /// Write `bytes` to `path` atomically: write a temporary file in the same folder, then
 /// rename it over `path`, so readers never see a half-written result file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {

@@ -15,7 +15,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use stride_model::storage::{write_atomic, Storage};
+use stride_model::storage::{replace_dir, write_atomic, Storage};
 use stride_model::{Model, MotionType};
 use stride_solve::solver::{ControlFlow, IterationRecord, SolveResult, Solver, SolverOptions};
 
@@ -272,18 +272,7 @@ pub fn write_results(
     out: &Path,
 ) -> Result<Summary, PredictError> {
     let node = NodeModel::new(problem)?;
-    let parent = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent).map_err(|e| write_err(parent, e))?;
-    let tmp: PathBuf = parent.join(format!(
-        ".{}.partial-{}",
-        out.file_name().and_then(|s| s.to_str()).unwrap_or("out"),
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&tmp);
-    std::fs::create_dir_all(&tmp).map_err(|e| write_err(&tmp, e))?;
+    let tmp = sibling_dir(out, "partial")?;
     let result = (|| {
         let mut outcomes = None;
         // Solver logs of every guess.
@@ -330,16 +319,34 @@ pub fn write_results(
         write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
         Ok(summary)
     })();
+    swap_in(result, &tmp, out)
+}
+
+/// A fresh, empty temporary folder beside `out` (its parent created if needed), named after
+/// `out` and `tag`.
+fn sibling_dir(out: &Path, tag: &str) -> Result<PathBuf, PredictError> {
+    let parent = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(parent).map_err(|e| write_err(parent, e))?;
+    let name = out.file_name().and_then(|s| s.to_str()).unwrap_or("out");
+    let tmp = parent.join(format!(".{name}.{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    std::fs::create_dir_all(&tmp).map_err(|e| write_err(&tmp, e))?;
+    Ok(tmp)
+}
+
+/// After a folder was written into `tmp`: on success `tmp` replaces `out`, on failure it is
+/// removed and `out` stays as it was.
+fn swap_in<T>(result: Result<T, PredictError>, tmp: &Path, out: &Path) -> Result<T, PredictError> {
     match result {
-        Ok(summary) => {
-            if out.exists() {
-                std::fs::remove_dir_all(out).map_err(|e| write_err(out, e))?;
-            }
-            std::fs::rename(&tmp, out).map_err(|e| write_err(out, e))?;
-            Ok(summary)
+        Ok(v) => {
+            replace_dir(tmp, out).map_err(|e| write_err(out, e))?;
+            Ok(v)
         }
         Err(e) => {
-            let _ = std::fs::remove_dir_all(&tmp);
+            let _ = std::fs::remove_dir_all(tmp);
             Err(e)
         }
     }
@@ -370,15 +377,7 @@ pub fn rewrite_results(
     let mesh = problem.mesh_solution(&node, x)?;
     let cycle = problem.gait_cycle(&mesh);
     let outcomes = problem.outcomes(&node, &mesh, &cycle)?;
-    let name = out.file_name().and_then(|s| s.to_str()).unwrap_or("out");
-    let parent = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let tmp = parent.join(format!(".{name}.rewrite-{}", std::process::id()));
-    let old = parent.join(format!(".{name}.old-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&tmp);
-    std::fs::create_dir_all(&tmp).map_err(|e| write_err(&tmp, e))?;
+    let tmp = sibling_dir(out, "rewrite")?;
     let result = (|| {
         copy_tree(out, &tmp)?;
         write_cycle(problem, &node, &cycle, &tmp)?;
@@ -389,18 +388,7 @@ pub fn rewrite_results(
         write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
         also(&cycle, &tmp)
     })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_dir_all(&tmp);
-        return Err(e);
-    }
-    let _ = std::fs::remove_dir_all(&old);
-    std::fs::rename(out, &old).map_err(|e| write_err(out, e))?;
-    if let Err(e) = std::fs::rename(&tmp, out) {
-        let _ = std::fs::rename(&old, out);
-        return Err(write_err(out, e));
-    }
-    let _ = std::fs::remove_dir_all(&old);
-    Ok(outcomes)
+    swap_in(result.map(|()| outcomes), &tmp, out)
 }
 
 /// Copy the files and subfolders of `from` into the existing folder `to`.

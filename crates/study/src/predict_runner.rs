@@ -65,6 +65,13 @@ fn read_solution(dir: &Path) -> Result<SolutionFile, String> {
     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
 }
 
+/// Write a case's `solution.json` into `dir` atomically.
+fn write_solution(dir: &Path, sol: &SolutionFile) -> Result<(), String> {
+    let p = dir.join(SOLUTION_FILE);
+    let json = serde_json::to_string(sol).map_err(err)?;
+    write_atomic(&p, json.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))
+}
+
 impl PredictRunner {
     /// Initial NLP vector of a continuation guess from the source case folder.
     fn continuation_guess(
@@ -234,9 +241,7 @@ impl CaseRunner for PredictRunner {
                 cycle_time: cycle.time.clone(),
                 cycle_q: cycle.q.clone(),
             };
-            let p = dir.join(SOLUTION_FILE);
-            let json = serde_json::to_string(&sol).map_err(err)?;
-            write_atomic(&p, json.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
+            write_solution(dir, &sol)?;
             outcome.solution_written = true;
         }
         Ok(outcome)
@@ -297,14 +302,9 @@ pub fn rewrite_case(model: &Model, dir: &Path) -> Result<Rewritten, String> {
     predict::rewrite_results(&problem, &x, dir, |cycle, tmp| {
         sol.cycle_time.clone_from(&cycle.time);
         sol.cycle_q.clone_from(&cycle.q);
-        let p = tmp.join(SOLUTION_FILE);
-        let json = serde_json::to_string(&sol).map_err(|e| predict::PredictError::Write {
-            path: p.display().to_string(),
-            reason: e.to_string(),
-        })?;
-        write_atomic(&p, json.as_bytes()).map_err(|e| predict::PredictError::Write {
-            path: p.display().to_string(),
-            reason: e.to_string(),
+        write_solution(tmp, &sol).map_err(|reason| predict::PredictError::Write {
+            path: tmp.join(SOLUTION_FILE).display().to_string(),
+            reason,
         })
     })
     .map_err(err)?;

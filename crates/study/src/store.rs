@@ -224,10 +224,7 @@ impl Store {
         let json = serde_json::to_string_pretty(record).map_err(|e| io_err(&p, e))?;
         write_atomic(&p, json.as_bytes()).map_err(|e| io_err(&p, e))?;
         let dst = self.case_dir(&record.name);
-        if dst.exists() {
-            std::fs::remove_dir_all(&dst).map_err(|e| io_err(&dst, e))?;
-        }
-        std::fs::rename(tmp, &dst).map_err(|e| io_err(&dst, e))
+        stride_model::storage::replace_dir(tmp, &dst).map_err(|e| io_err(&dst, e))
     }
 
     /// Rewrite `index.csv` atomically: one row per case, finished or not.
