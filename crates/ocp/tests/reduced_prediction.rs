@@ -2,22 +2,117 @@
 //! cycle) from the data-informed walking guess, solved to tolerance 1e-4 by the pure-Rust
 //! interior point, then written to a result folder.
 //!
-//! References: IPOPT 3.11.9 with MUMPS solves this same NLP to an objective of 301.52
-//! (docs/decisions/0002-solver.md), an independent solver on the identical problem; the gait
-//! checks are physical (one body weight on average, a walking cycle with stance and swing).
+//! What is checked, and against what:
+//! - optimality, independently of the solver's internal (scaled, slack) residuals: the
+//!   first-order conditions recomputed from the returned point and multipliers with a
+//!   freshly built transcription (stationarity ∇f + Jᵀλ − z_l + z_u over the free
+//!   variables, constraint and bound violation, complementarity of bounds and inequality
+//!   rows, multiplier signs);
+//! - the optimum, against an independent solver: IPOPT 3.11.9 with MUMPS solves this same
+//!   NLP to 301.523 (docs/decisions/0002-solver.md). The problem is nonconvex and at 10
+//!   intervals has several nearby local optima (301.52, 305.68 and 307.85 were all reached
+//!   by correct solvers from this guess, depending on rounding-level differences in the
+//!   derivatives), so the objective must lie within `OPTIMUM_WINDOW` of IPOPT's, not on it;
+//! - the gait, physically: one body weight of vertical force on average, a walking cycle
+//!   with stance and swing, and double support.
 
+use std::sync::Arc;
 use std::time::Duration;
 use stride_model::storage::Storage;
 use stride_ocp::{
     guess::GuessKind,
+    node::NodeModel,
     predict::{select, solve_guesses, write_results},
+    problem::GaitProblem,
     settings::ProblemSettings,
+    tape_node::TapeNode,
+    transcription::Transcription,
 };
 use stride_solve::ipm::InteriorPoint;
-use stride_solve::solver::{MuStrategy, SolveStatus, SolverOptions};
+use stride_solve::nlp::Nlp;
+use stride_solve::solver::{MuStrategy, SolveResult, SolveStatus, SolverOptions};
 
 /// Objective IPOPT reaches on this problem (10 intervals, data-informed guess, tol 1e-4).
 const IPOPT_OBJECTIVE: f64 = 301.523;
+/// Relative window around IPOPT's objective that holds the nearby local optima.
+const OPTIMUM_WINDOW: f64 = 0.03;
+
+/// First-order optimality measures recomputed at a solver's result (max norms, unscaled).
+#[derive(Debug)]
+struct Kkt {
+    /// ‖∇f + Jᵀλ − z_l + z_u‖∞ over the variables whose bounds differ.
+    stationarity: f64,
+    /// Largest violation of a constraint or variable bound.
+    violation: f64,
+    /// Largest product of a bound multiplier (or inequality multiplier) with its slack.
+    complementarity: f64,
+    /// Largest multiplier of the wrong sign (bound multipliers must be ≥ 0; a constraint
+    /// multiplier must not push against an inactive side).
+    wrong_sign: f64,
+}
+
+/// Recomputes the first-order conditions of `problem` at the result `r` with a fresh tape
+/// and transcription (nothing of the solver's state is reused).
+fn kkt(problem: &GaitProblem, r: &SolveResult) -> Kkt {
+    let node = NodeModel::new(problem).expect("node model");
+    let tape = TapeNode::for_problem(problem, &node, &r.x).expect("tape");
+    let nlp = Transcription::new(problem.clone(), Arc::new(tape), r.x.clone());
+    let (n, m) = (nlp.n(), nlp.m());
+    let (mut xl, mut xu, mut gl, mut gu) = (vec![0.0; n], vec![0.0; n], vec![0.0; m], vec![0.0; m]);
+    nlp.bounds(&mut xl, &mut xu, &mut gl, &mut gu);
+    let x = &r.x;
+    let mut grad = vec![0.0; n];
+    nlp.gradient(x, &mut grad).expect("gradient");
+    let mut c = vec![0.0; m];
+    nlp.constraints(x, &mut c).expect("constraints");
+    let pattern = nlp.jacobian_structure();
+    let mut jac = vec![0.0; pattern.rows.len()];
+    nlp.jacobian_values(x, &mut jac).expect("jacobian");
+    let mut station = grad;
+    for ((&i, &j), v) in pattern.rows.iter().zip(&pattern.cols).zip(&jac) {
+        station[j] += v * r.lambda[i];
+    }
+    let mut k = Kkt {
+        stationarity: 0.0,
+        violation: 0.0,
+        complementarity: 0.0,
+        wrong_sign: 0.0,
+    };
+    for j in 0..n {
+        k.violation = k.violation.max(xl[j] - x[j]).max(x[j] - xu[j]);
+        k.wrong_sign = k.wrong_sign.max(-r.z_l[j]).max(-r.z_u[j]);
+        if xl[j] == xu[j] {
+            continue;
+        }
+        k.stationarity = k.stationarity.max((station[j] - r.z_l[j] + r.z_u[j]).abs());
+        if xl[j].is_finite() {
+            k.complementarity = k.complementarity.max(r.z_l[j] * (x[j] - xl[j]));
+        }
+        if xu[j].is_finite() {
+            k.complementarity = k.complementarity.max(r.z_u[j] * (xu[j] - x[j]));
+        }
+    }
+    for i in 0..m {
+        k.violation = k.violation.max(gl[i] - c[i]).max(c[i] - gu[i]);
+        if gl[i] == gu[i] {
+            continue;
+        }
+        // ∇f + Jᵀλ = 0: λ ≤ 0 pushes toward the lower side, λ ≥ 0 toward the upper one.
+        let l = r.lambda[i];
+        if l < 0.0 {
+            k.complementarity = k.complementarity.max(-l * (c[i] - gl[i]));
+            if !gl[i].is_finite() {
+                k.wrong_sign = k.wrong_sign.max(-l);
+            }
+        } else {
+            k.complementarity = k.complementarity.max(l * (gu[i] - c[i]));
+            if !gu[i].is_finite() {
+                k.wrong_sign = k.wrong_sign.max(l);
+            }
+        }
+    }
+    k
+}
 
 #[test]
 fn coarse_mesh_prediction_converges_and_writes_results() {
@@ -53,10 +148,30 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
         r.time_total.as_secs_f64()
     );
     assert_eq!(r.status, SolveStatus::Optimal);
-    assert!(r.constraint_violation < 1e-4, "{}", r.constraint_violation);
+    let k = kkt(&problem, r);
+    eprintln!("recomputed first-order conditions: {k:?}");
+    assert!(k.violation < 1e-4, "violation {}", k.violation);
+    assert!(k.stationarity < 1e-2, "stationarity {}", k.stationarity);
+    assert!(
+        k.complementarity < options.compl_inf_tol,
+        "complementarity {}",
+        k.complementarity
+    );
+    assert!(
+        k.wrong_sign <= 0.0,
+        "multiplier of the wrong sign {}",
+        k.wrong_sign
+    );
+    // The solver's own report agrees with the recomputation.
+    assert!(
+        (k.stationarity - r.dual_infeasibility).abs() <= 1e-6 + 1e-3 * k.stationarity,
+        "reported dual infeasibility {} vs recomputed {}",
+        r.dual_infeasibility,
+        k.stationarity
+    );
     let rel = (r.objective - IPOPT_OBJECTIVE).abs() / IPOPT_OBJECTIVE;
     assert!(
-        rel < 1e-3,
+        rel < OPTIMUM_WINDOW,
         "objective {} vs IPOPT {IPOPT_OBJECTIVE}",
         r.objective
     );
@@ -74,6 +189,11 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
     // a walking cycle: each foot has stance and swing, one stance phase per cycle
     assert!(o.stance_fraction_right > 0.3 && o.stance_fraction_right < 0.9);
     assert_eq!(o.stance_phases_right, 1);
+    assert!(
+        o.double_support_fraction > 0.0,
+        "double support {}",
+        o.double_support_fraction
+    );
 
     let motion = Storage::read(&out.join("motion.mot")).expect("motion.mot");
     assert_eq!(motion.rows.len(), 20, "full cycle = 2N samples");

@@ -11,6 +11,12 @@
 //!   differences, scalings) whose intermediate results are used once, by the next such
 //!   operation, is swept as one `Σ cⱼ ∇j` at its root; the intermediates store neither
 //!   `P` nor `R` entries (a sum of n terms costs O(n·|P(root)|) instead of O(n²)).
+//! - Product folding (forward sweep only): an operation with variable partials (a
+//!   product, a quotient, a unary function) whose result is used once, by a linear
+//!   combination, stores no `P` either; its operands join the combination as terms whose
+//!   coefficient is the constant path coefficient times the operation's local partial
+//!   at the evaluation point. The reverse sweep still stores its `R` set, since its
+//!   curvature terms need it.
 
 use super::op::{Curvature, Op};
 use crate::sparsity::{bits, BitSets, Pattern};
@@ -75,6 +81,20 @@ struct Term {
     map: Map,
     /// Product of the constant partials along the path from the root to `j`.
     coef: f64,
+    /// Operation whose local partial also multiplies `coef` (folded product), and which
+    /// partial: `side` 0 none, 1 `∂/∂a`, 2 `∂/∂b`, 3 their sum (both operands `j`).
+    part: u32,
+    side: u8,
+}
+
+/// One stored node of a collapsed combination: its node, constant path coefficient and
+/// the folded operation's partial that multiplies it (see [`Term`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Leaf {
+    node: u32,
+    coef: f64,
+    part: u32,
+    side: u8,
 }
 
 /// A slice `[start, start + len)` of one of the stores.
@@ -117,7 +137,8 @@ struct RevStep {
 /// The static index sets and maps of the sparse sweeps of one tape.
 #[derive(Clone, Debug, Default)]
 pub(super) struct SparsePlan {
-    /// Offsets of the stored gradients `P(k)` per node (empty for collapsed nodes).
+    /// Offsets of the stored gradients `P(k)` per node (empty for collapsed and folded
+    /// nodes).
     poff: Vec<u32>,
     /// Offsets of the stored second-order adjoints `R(k)` per node (empty for collapsed
     /// nodes).
@@ -197,8 +218,8 @@ impl SparsePlan {
         let n = n_in + ops.len();
         let (pfull, pidx) = flat(jset, n);
         let p = |k: u32| slice(&pfull, &pidx, k as usize);
-        let collapsed = collapsible(n_in, ops, args, active, outputs);
-        let poff = stored_offsets(&pfull, &collapsed);
+        let (collapsed, fcollapsed) = collapsible(n_in, ops, args, active, outputs);
+        let poff = stored_offsets(&pfull, &fcollapsed);
         // R sets, reverse order; the sink (index n) has empty P and R.
         let mut r = BitSets::new(n + 1, n_in);
         let sink = n as u32;
@@ -240,14 +261,19 @@ impl SparsePlan {
             let mut m = OpMaps::default();
             if active[k as usize] && !collapsed[k as usize] {
                 let [a, b] = args[t];
+                let stored = !fcollapsed[k as usize];
                 if a != sink {
-                    m.fa = map_of(p(a), p(k), &mut store);
+                    if stored {
+                        m.fa = map_of(p(a), p(k), &mut store);
+                    }
                     m.ra = map_of(rs(k), rs(a), &mut store);
                     m.pa_ra = map_opt(p(a), rs(a), &mut store);
                     m.pb_ra = map_opt(p(b), rs(a), &mut store);
                 }
                 if b != sink && b != a {
-                    m.fb = map_of(p(b), p(k), &mut store);
+                    if stored {
+                        m.fb = map_of(p(b), p(k), &mut store);
+                    }
                     m.rb = map_of(rs(k), rs(b), &mut store);
                     m.pa_rb = map_opt(p(a), rs(b), &mut store);
                     m.pb_rb = map_opt(p(b), rs(b), &mut store);
@@ -292,36 +318,33 @@ impl SparsePlan {
             let (start, len) = span(k);
             Span { start, len }
         };
-        // Collapsed linear combinations: per root, its stored leaves with summed
-        // coefficients (leaf order ascending), shared by both sweeps.
-        let mut combos: Vec<Option<Vec<(u32, f64)>>> = vec![None; ops.len()];
-        let mut leaves: Vec<(u32, f64)> = Vec::new();
-        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !collapsed[n_in + t]) {
-            let [a, b] = args[t];
-            let collapses = |j: u32| j != sink && collapsed[j as usize];
-            if collapses(a) || collapses(b) {
-                leaves.clear();
-                linear_leaves(
-                    n_in,
-                    ops,
-                    args,
-                    &collapsed,
-                    sink,
-                    (n_in + t) as u32,
-                    1.0,
-                    &mut leaves,
-                );
-                leaves.sort_by_key(|&(j, _)| j);
-                let mut merged: Vec<(u32, f64)> = Vec::with_capacity(leaves.len());
-                for &(j, c) in &leaves {
-                    match merged.last_mut() {
-                        Some(last) if last.0 == j => last.1 += c,
-                        _ => merged.push((j, c)),
-                    }
+        // Collapsed combinations per root, leaves merged in ascending node order: `rcombos`
+        // through linear nodes only (reverse sweep), `fcombos` also through folded
+        // products (forward sweep).
+        let combinations = |fold: &[bool]| {
+            let mut combos: Vec<Option<Vec<Leaf>>> = vec![None; ops.len()];
+            let mut leaves = Vec::new();
+            for t in (0..ops.len()).filter(|&t| active[n_in + t] && !fold[n_in + t]) {
+                let [a, b] = args[t];
+                let folds = |j: u32| j != sink && fold[j as usize];
+                if folds(a) || folds(b) {
+                    leaves.clear();
+                    let root = (n_in + t) as u32;
+                    let cx = LeafContext {
+                        n_in,
+                        ops,
+                        args,
+                        folded: fold,
+                        sink,
+                    };
+                    combination_leaves(&cx, root, 1.0, &mut leaves);
+                    combos[t] = Some(merge_leaves(&mut leaves));
                 }
-                combos[t] = Some(merged);
             }
-        }
+            combos
+        };
+        let rcombos = combinations(&collapsed);
+        let fcombos = combinations(&fcollapsed);
         let mut rterms = Vec::new();
         let mut rev = Vec::new();
         for t in (0..ops.len())
@@ -343,7 +366,7 @@ impl SparsePlan {
                 same: a == b,
                 terms: Span::default(),
             };
-            if let Some(combo) = &combos[t] {
+            if let Some(combo) = &rcombos[t] {
                 step.terms = push_terms(&mut rterms, combo, |j| {
                     (rspan(j), map_of(rs(k), rs(j), &mut store))
                 });
@@ -352,7 +375,7 @@ impl SparsePlan {
         }
         let mut terms = Vec::new();
         let mut fwd = Vec::new();
-        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !collapsed[n_in + t]) {
+        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !fcollapsed[n_in + t]) {
             let [a, b] = args[t];
             let k = (n_in + t) as u32;
             let (k0, k_len) = span(k);
@@ -371,7 +394,7 @@ impl SparsePlan {
                 same: a == b,
                 terms: Span::default(),
             };
-            if let Some(combo) = &combos[t] {
+            if let Some(combo) = &fcombos[t] {
                 step.terms = push_terms(&mut terms, combo, |j| {
                     (pspan(j), map_of(p(j), p(k), &mut store))
                 });
@@ -407,17 +430,23 @@ impl SparsePlan {
     }
 }
 
-/// Appends one term per `(node, coefficient)` of `combo`, with the node's set and map from
-/// `set_map`; returns their span in `terms`.
+/// Appends one term per leaf of `combo`, with the node's set and map from `set_map`;
+/// returns their span in `terms`.
 fn push_terms(
     terms: &mut Vec<Term>,
-    combo: &[(u32, f64)],
+    combo: &[Leaf],
     mut set_map: impl FnMut(u32) -> (Span, Map),
 ) -> Span {
     let start = terms.len() as u32;
-    for &(j, coef) in combo {
-        let (set, map) = set_map(j);
-        terms.push(Term { set, map, coef });
+    for leaf in combo {
+        let (set, map) = set_map(leaf.node);
+        terms.push(Term {
+            set,
+            map,
+            coef: leaf.coef,
+            part: leaf.part,
+            side: leaf.side,
+        });
     }
     Span {
         start,
@@ -425,17 +454,22 @@ fn push_terms(
     }
 }
 
-/// The nodes whose gradients need not be stored: results of operations with constant
-/// partials used by exactly one operation, itself with constant partials, and not an
-/// output. Their contributions are summed directly into the gradient of the first node
-/// down the chain that is stored (the root of the linear combination).
+/// The nodes whose gradients need not be stored, as two masks `(linear, folded)`.
+///
+/// `linear`: results of operations with constant partials used by exactly one operation,
+/// itself with constant partials, and not an output; their contributions are summed
+/// directly into the gradient of the first node down the chain that is stored (the root
+/// of the linear combination), in both sweeps. `folded` adds, for the forward sweep only,
+/// the results of operations with variable partials used once, by an operation with
+/// constant partials, and not an output (their operands are then always stored, since
+/// their only user has variable partials).
 fn collapsible(
     n_in: usize,
     ops: &[Op],
     args: &[[u32; 2]],
     active: &[bool],
     outputs: &[u32],
-) -> Vec<bool> {
+) -> (Vec<bool>, Vec<bool>) {
     let n = n_in + ops.len();
     let mut uses = vec![0u32; n];
     let mut user = vec![u32::MAX; n];
@@ -453,51 +487,88 @@ fn collapsible(
     for &o in outputs {
         uses[o as usize] += 2;
     }
-    (0..n)
-        .map(|k| {
-            k >= n_in
-                && active[k]
-                && uses[k] == 1
-                && ops[k - n_in].constant_partials().is_some()
-                && ops[user[k] as usize].constant_partials().is_some()
-        })
-        .collect()
+    let single_linear_use = |k: usize| {
+        k >= n_in
+            && active[k]
+            && uses[k] == 1
+            && ops[user[k] as usize].constant_partials().is_some()
+    };
+    let linear: Vec<bool> = (0..n)
+        .map(|k| single_linear_use(k) && ops[k - n_in].constant_partials().is_some())
+        .collect();
+    let folded = (0..n)
+        .map(|k| linear[k] || (single_linear_use(k) && args[k - n_in] != [n as u32; 2]))
+        .collect();
+    (linear, folded)
 }
 
-/// Appends `(j, c)` for every stored node `j` that the collapsed linear combination rooted
-/// at node `k` sums, `c` the product of constant partials from `k` to `j` times `scale`.
-#[allow(clippy::too_many_arguments)]
-fn linear_leaves(
+/// What the leaf search of a collapsed combination reads.
+struct LeafContext<'a> {
     n_in: usize,
-    ops: &[Op],
-    args: &[[u32; 2]],
-    collapsed: &[bool],
+    ops: &'a [Op],
+    args: &'a [[u32; 2]],
+    /// Nodes collapsed in the sweep being planned (`collapsed`, or it plus folded ones).
+    folded: &'a [bool],
     sink: u32,
-    k: u32,
-    scale: f64,
-    out: &mut Vec<(u32, f64)>,
-) {
-    let t = k as usize - n_in;
-    let [pa, pb] = ops[t]
-        .constant_partials()
-        .expect("a linear combination's nodes have constant partials");
-    let [a, b] = args[t];
-    // Same operand twice (`x - x`, unary ops): one term with the summed partials.
+}
+
+/// Appends the stored leaves of the combination reached through node `k` (a collapsed
+/// node or the root), `scale` the product of constant partials from the root to `k`.
+fn combination_leaves(cx: &LeafContext<'_>, k: u32, scale: f64, out: &mut Vec<Leaf>) {
+    let t = k as usize - cx.n_in;
+    let [a, b] = cx.args[t];
+    let partials = cx.ops[t].constant_partials();
+    // Same operand twice (`x * x`, `x - x`, unary ops): one operand, partials summed.
     let operands = if a == b {
-        [(a, pa + pb), (sink, 0.0)]
+        [(a, 3u8), (cx.sink, 0)]
     } else {
-        [(a, pa), (b, pb)]
+        [(a, 1), (b, 2)]
     };
-    for (j, c) in operands {
-        if j == sink {
+    for (j, side) in operands {
+        if j == cx.sink {
             continue;
         }
-        if collapsed[j as usize] {
-            linear_leaves(n_in, ops, args, collapsed, sink, j, scale * c, out);
-        } else {
-            out.push((j, scale * c));
+        match partials {
+            Some([pa, pb]) => {
+                let c = match side {
+                    1 => pa,
+                    2 => pb,
+                    _ => pa + pb,
+                };
+                if cx.folded[j as usize] {
+                    combination_leaves(cx, j, scale * c, out);
+                } else {
+                    out.push(Leaf {
+                        node: j,
+                        coef: scale * c,
+                        part: 0,
+                        side: 0,
+                    });
+                }
+            }
+            // A folded operation: its operands are stored; its partial is read at
+            // evaluation time.
+            None => out.push(Leaf {
+                node: j,
+                coef: scale,
+                part: t as u32,
+                side,
+            }),
         }
     }
+}
+
+/// Sorts leaves by node and merges those with the same node and the same folded partial.
+fn merge_leaves(leaves: &mut [Leaf]) -> Vec<Leaf> {
+    leaves.sort_by_key(|l| (l.node, l.part, l.side));
+    let mut merged: Vec<Leaf> = Vec::with_capacity(leaves.len());
+    for &l in leaves.iter() {
+        match merged.last_mut() {
+            Some(m) if (m.node, m.part, m.side) == (l.node, l.part, l.side) => m.coef += l.coef,
+            _ => merged.push(l),
+        }
+    }
+    merged
 }
 
 /// A map only when both sets are non-empty and the source is a subset of the target.
@@ -574,13 +645,18 @@ impl super::Tape {
                 let gk = &mut hi[..s.k_len as usize];
                 gk.iter_mut().for_each(|x| *x = [0.0; L]);
                 for term in &sp.terms[s.terms.range()] {
-                    axpy(
-                        gk,
-                        &lo[term.set.range()],
-                        [term.coef; L],
-                        term.map,
-                        &sp.store,
-                    );
+                    let mut c = [term.coef; L];
+                    if term.side != 0 {
+                        for l in 0..L {
+                            let [pa, pb] = part[l][term.part as usize];
+                            c[l] *= match term.side {
+                                1 => pa,
+                                2 => pb,
+                                _ => pa + pb,
+                            };
+                        }
+                    }
+                    axpy(gk, &lo[term.set.range()], c, term.map, &sp.store);
                 }
                 continue;
             }
