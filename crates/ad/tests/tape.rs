@@ -492,6 +492,9 @@ fn batches_give_each_point_the_single_point_numbers() {
             let mut ys2 = vec![0.0; points * m];
             tape.hessian_batch(&xs, &lambdas, &mut bw, &mut ys2, &mut hes)
                 .unwrap();
+            let mut ys3 = vec![0.0; points * m];
+            tape.eval_batch(&xs, &mut bw, &mut ys3).unwrap();
+            assert_eq!(ys3, ys, "{} values of the batch", c.name);
             for p in 0..points {
                 let x = &xs[p * n..(p + 1) * n];
                 let (mut y, mut jac, mut h) = (vec![0.0; m], vec![0.0; nj], vec![0.0; nh]);

@@ -128,6 +128,10 @@ impl NodeFunction for TapeNode {
     fn batch(&self) -> usize {
         BATCH
     }
+    fn eval_batch(&self, xs: &[f64], ys: &mut [f64]) {
+        self.with_batch_ws(|bw, _| self.tape.eval_batch(xs, bw, ys))
+            .expect("tape sizes fixed at recording");
+    }
     fn jacobian_batch(&self, xs: &[f64], ys: &mut [f64], jacs: &mut [f64]) {
         self.with_batch_ws(|bw, _| self.tape.jacobian_batch(xs, bw, ys, jacs))
             .expect("tape sizes fixed at recording");

@@ -43,6 +43,17 @@ pub trait NodeFunction: Sync {
     fn batch(&self) -> usize {
         1
     }
+    /// [`NodeFunction::eval`] at 1 to [`NodeFunction::batch`] points: `xs` and `ys` hold
+    /// one block per point, one after the other.
+    fn eval_batch(&self, xs: &[f64], ys: &mut [f64]) {
+        let (nin, nout) = (self.n_inputs(), self.n_outputs());
+        for (x, y) in xs
+            .chunks_exact(nin.max(1))
+            .zip(ys.chunks_exact_mut(nout.max(1)))
+        {
+            self.eval(x, y);
+        }
+    }
     /// [`NodeFunction::jacobian`] at 1 to [`NodeFunction::batch`] points: `xs`, `ys` and
     /// `jacs` hold one block per point, one after the other.
     fn jacobian_batch(&self, xs: &[f64], ys: &mut [f64], jacs: &mut [f64]) {
@@ -100,6 +111,9 @@ impl<N: NodeFunction + Send> NodeFunction for std::sync::Arc<N> {
     }
     fn batch(&self) -> usize {
         (**self).batch()
+    }
+    fn eval_batch(&self, xs: &[f64], ys: &mut [f64]) {
+        (**self).eval_batch(xs, ys)
     }
     fn jacobian_batch(&self, xs: &[f64], ys: &mut [f64], jacs: &mut [f64]) {
         (**self).jacobian_batch(xs, ys, jacs)
@@ -600,13 +614,20 @@ impl<F: NodeFunction> Transcription<F> {
         } else if !cache.valid_values {
             let c = &mut *cache;
             c.values.resize(self.n_nodes * nout, 0.0);
-            c.values.par_chunks_mut(nout).enumerate().for_each_init(
-                || vec![0.0; nin],
-                |xin, (i, y)| {
-                    self.gather(x, i, xin);
-                    self.node.eval(xin, y);
-                },
-            );
+            let batch = self.node.batch().max(1);
+            c.values
+                .par_chunks_mut(nout * batch)
+                .enumerate()
+                .for_each_init(
+                    || vec![0.0; nin * batch],
+                    |xin, (b, y)| {
+                        let points = y.len() / nout;
+                        for p in 0..points {
+                            self.gather(x, b * batch + p, &mut xin[p * nin..(p + 1) * nin]);
+                        }
+                        self.node.eval_batch(&xin[..points * nin], y);
+                    },
+                );
             c.valid_values = true;
         }
         f(&cache)

@@ -9,94 +9,175 @@ impl Tape {
     /// Forward sweep: values; with `ORD >= 1` the local partials `part`, with `ORD >= 2`
     /// the local second partials `sec` (`[∂²/∂a², ∂²/∂a∂b, ∂²/∂b²]`).
     pub(super) fn forward<const ORD: u8>(&self, x: &[f64], ws: &mut Workspace) {
+        self.forward_lanes::<ORD, 1>([x], [ws]);
+    }
+
+    /// [`Tape::forward`] at `L` points at once, point `l` into workspace `ws[l]`: each
+    /// operation is decoded once and applied to every lane (same numbers as `L` single
+    /// sweeps).
+    pub(super) fn forward_lanes<const ORD: u8, const L: usize>(
+        &self,
+        xs: [&[f64]; L],
+        ws: [&mut Workspace; L],
+    ) {
         let n_in = self.n_in;
-        let (vals, part, sec) = (&mut ws.vals, &mut ws.part, &mut ws.sec);
-        vals[..n_in].copy_from_slice(x);
+        let n = self.ops.len();
+        // Each lane's stores as plain slices of the sweep's length (bounds checked once).
+        let mut vals: [&mut [f64]; L] = [(); L].map(|_| &mut [][..]);
+        let mut part: [&mut [[f64; 2]]; L] = [(); L].map(|_| &mut [][..]);
+        let mut sec: [&mut [[f64; 3]]; L] = [(); L].map(|_| &mut [][..]);
+        for (l, w) in ws.into_iter().enumerate() {
+            vals[l] = &mut w.vals[..n_in + n];
+            vals[l][..n_in].copy_from_slice(xs[l]);
+            if ORD >= 1 {
+                part[l] = &mut w.part[..n];
+            }
+            if ORD >= 2 {
+                sec[l] = &mut w.sec[..n];
+            }
+        }
+        /// Every lane with the same first and second partials.
+        fn same<const L: usize>(
+            val: [f64; L],
+            p: [f64; 2],
+        ) -> ([f64; L], [[f64; 2]; L], [[f64; 3]; L]) {
+            (val, [p; L], [[0.0; 3]; L])
+        }
+        /// Lanes of a unary function from its `[value, first, second]` derivatives.
+        fn unary<const L: usize>(f: [[f64; 3]; L]) -> ([f64; L], [[f64; 2]; L], [[f64; 3]; L]) {
+            (
+                std::array::from_fn(|l| f[l][0]),
+                std::array::from_fn(|l| [f[l][1], 0.0]),
+                std::array::from_fn(|l| [f[l][2], 0.0, 0.0]),
+            )
+        }
         for (t, op) in self.ops.iter().enumerate() {
-            let v = |i: u32| vals[i as usize];
-            let (val, p, s): (f64, [f64; 2], [f64; 3]) = match *op {
-                Op::Input(i) => (x[i as usize], [0.0; 2], [0.0; 3]),
-                Op::Const(c) => (c, [0.0; 2], [0.0; 3]),
-                Op::Add(a, b) => (v(a) + v(b), [1.0, 1.0], [0.0; 3]),
-                Op::Sub(a, b) => (v(a) - v(b), [1.0, -1.0], [0.0; 3]),
+            let v = |i: u32| -> [f64; L] { std::array::from_fn(|l| vals[l][i as usize]) };
+            let (val, p, s): ([f64; L], [[f64; 2]; L], [[f64; 3]; L]) = match *op {
+                Op::Input(i) => same(std::array::from_fn(|l| xs[l][i as usize]), [0.0; 2]),
+                Op::Const(c) => same([c; L], [0.0; 2]),
+                Op::Add(a, b) => {
+                    let (va, vb) = (v(a), v(b));
+                    same(std::array::from_fn(|l| va[l] + vb[l]), [1.0, 1.0])
+                }
+                Op::Sub(a, b) => {
+                    let (va, vb) = (v(a), v(b));
+                    same(std::array::from_fn(|l| va[l] - vb[l]), [1.0, -1.0])
+                }
                 Op::Mul(a, b) => {
                     let (va, vb) = (v(a), v(b));
-                    (va * vb, [vb, va], [0.0, 1.0, 0.0])
+                    (
+                        std::array::from_fn(|l| va[l] * vb[l]),
+                        std::array::from_fn(|l| [vb[l], va[l]]),
+                        [[0.0, 1.0, 0.0]; L],
+                    )
                 }
                 Op::Div(a, b) => {
-                    let q = v(a) / v(b);
+                    let (va, vb) = (v(a), v(b));
+                    let q: [f64; L] = std::array::from_fn(|l| va[l] / vb[l]);
                     if ORD == 0 {
-                        (q, [0.0; 2], [0.0; 3])
+                        same(q, [0.0; 2])
                     } else {
-                        let r = 1.0 / v(b);
-                        (q, [r, -q * r], [0.0, -r * r, 2.0 * q * r * r])
+                        let r: [f64; L] = std::array::from_fn(|l| 1.0 / vb[l]);
+                        (
+                            q,
+                            std::array::from_fn(|l| [r[l], -q[l] * r[l]]),
+                            std::array::from_fn(|l| [0.0, -r[l] * r[l], 2.0 * q[l] * r[l] * r[l]]),
+                        )
                     }
                 }
-                Op::Neg(a) => (-v(a), [-1.0, 0.0], [0.0; 3]),
-                Op::AddC(a, c) => (v(a) + c, [1.0, 0.0], [0.0; 3]),
-                Op::MulC(a, c) => (v(a) * c, [c, 0.0], [0.0; 3]),
-                Op::DivC(a, c) => (v(a) / c, [1.0 / c, 0.0], [0.0; 3]),
+                Op::Neg(a) => same(v(a).map(|x| -x), [-1.0, 0.0]),
+                Op::AddC(a, c) => same(v(a).map(|x| x + c), [1.0, 0.0]),
+                Op::MulC(a, c) => same(v(a).map(|x| x * c), [c, 0.0]),
+                Op::DivC(a, c) => same(v(a).map(|x| x / c), [1.0 / c, 0.0]),
                 Op::CDiv(c, a) => {
-                    let q = c / v(a);
+                    let va = v(a);
+                    let q: [f64; L] = std::array::from_fn(|l| c / va[l]);
                     if ORD == 0 {
-                        (q, [0.0; 2], [0.0; 3])
+                        same(q, [0.0; 2])
                     } else {
-                        let r = 1.0 / v(a);
-                        (q, [-q * r, 0.0], [2.0 * q * r * r, 0.0, 0.0])
+                        let r: [f64; L] = std::array::from_fn(|l| 1.0 / va[l]);
+                        (
+                            q,
+                            std::array::from_fn(|l| [-q[l] * r[l], 0.0]),
+                            std::array::from_fn(|l| [2.0 * q[l] * r[l] * r[l], 0.0, 0.0]),
+                        )
                     }
                 }
                 Op::Unary(a, e) => {
                     if ORD == 0 {
-                        (e.value(v(a)), [0.0; 2], [0.0; 3])
+                        same(v(a).map(|x| e.value(x)), [0.0; 2])
                     } else {
-                        let f = e.eval3(v(a));
-                        (f[0], [f[1], 0.0], [f[2], 0.0, 0.0])
+                        let va = v(a);
+                        unary(std::array::from_fn(|l| e.eval3(va[l])))
                     }
                 }
                 Op::Powf(a, pw) => {
                     if ORD == 0 {
-                        (v(a).powf(pw), [0.0; 2], [0.0; 3])
+                        same(v(a).map(|x| x.powf(pw)), [0.0; 2])
                     } else {
-                        let f = powf3(v(a), pw);
-                        (f[0], [f[1], 0.0], [f[2], 0.0, 0.0])
+                        let va = v(a);
+                        unary(std::array::from_fn(|l| powf3(va[l], pw)))
                     }
                 }
                 Op::Powi(a, n) => {
                     if ORD == 0 {
-                        (v(a).powi(n), [0.0; 2], [0.0; 3])
+                        same(v(a).map(|x| x.powi(n)), [0.0; 2])
                     } else {
-                        let f = powi3(v(a), n);
-                        (f[0], [f[1], 0.0], [f[2], 0.0, 0.0])
+                        let va = v(a);
+                        unary(std::array::from_fn(|l| powi3(va[l], n)))
                     }
                 }
                 Op::Apply(a, k) => {
-                    let f = self.fns[k as usize].eval(v(a));
-                    (f[0], [f[1], 0.0], [f[2], 0.0, 0.0])
+                    let va = v(a);
+                    let f = &self.fns[k as usize];
+                    unary(std::array::from_fn(|l| f.eval(va[l])))
                 }
                 Op::Min(a, b) => {
                     let (va, vb) = (v(a), v(b));
-                    let pick = if va <= vb { [1.0, 0.0] } else { [0.0, 1.0] };
-                    (f64::min(va, vb), pick, [0.0; 3])
+                    (
+                        std::array::from_fn(|l| f64::min(va[l], vb[l])),
+                        std::array::from_fn(|l| {
+                            if va[l] <= vb[l] {
+                                [1.0, 0.0]
+                            } else {
+                                [0.0, 1.0]
+                            }
+                        }),
+                        [[0.0; 3]; L],
+                    )
                 }
                 Op::Max(a, b) => {
                     let (va, vb) = (v(a), v(b));
-                    let pick = if va >= vb { [1.0, 0.0] } else { [0.0, 1.0] };
-                    (f64::max(va, vb), pick, [0.0; 3])
+                    (
+                        std::array::from_fn(|l| f64::max(va[l], vb[l])),
+                        std::array::from_fn(|l| {
+                            if va[l] >= vb[l] {
+                                [1.0, 0.0]
+                            } else {
+                                [0.0, 1.0]
+                            }
+                        }),
+                        [[0.0; 3]; L],
+                    )
                 }
                 Op::Select(c, p, n) => {
-                    if v(c) > 0.0 {
-                        (v(p), [1.0, 0.0], [0.0; 3])
-                    } else {
-                        (v(n), [0.0, 1.0], [0.0; 3])
-                    }
+                    let (vc, vp, vn) = (v(c), v(p), v(n));
+                    (
+                        std::array::from_fn(|l| if vc[l] > 0.0 { vp[l] } else { vn[l] }),
+                        std::array::from_fn(|l| if vc[l] > 0.0 { [1.0, 0.0] } else { [0.0, 1.0] }),
+                        [[0.0; 3]; L],
+                    )
                 }
             };
-            vals[n_in + t] = val;
-            if ORD >= 1 {
-                part[t] = p;
-            }
-            if ORD >= 2 {
-                sec[t] = s;
+            for l in 0..L {
+                vals[l][n_in + t] = val[l];
+                if ORD >= 1 {
+                    part[l][t] = p[l];
+                }
+                if ORD >= 2 {
+                    sec[l][t] = s[l];
+                }
             }
         }
     }
