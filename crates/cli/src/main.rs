@@ -31,6 +31,9 @@ enum Command {
     Model(model_cmd::ModelCommand),
     /// Predict a gait (the paper's nominal case with no arguments).
     Predict(predict_cmd::PredictArgs),
+    /// Rewrite result folders (motion, tables, figures, outcomes) from their kept solution
+    /// with the current definitions.
+    Rewrite(predict_cmd::RewriteArgs),
     /// Run every case of a study file (parallel, resumable) and report.
     Study(study_cmd::StudyArgs),
     /// Analyse a study output folder (walk/run, transition speed, fits).
@@ -53,6 +56,7 @@ fn main() {
         Command::Model(cmd) => model_cmd::run(cmd),
         Command::Data(cmd) => data_cmd::run(cmd),
         Command::Predict(args) => predict_cmd::run(args),
+        Command::Rewrite(args) => predict_cmd::rewrite(args),
         Command::Study(args) => study_cmd::run(args),
         Command::Report(args) => study_cmd::report(args),
         Command::Bench(cmd) => bench_cmd::run(cmd),

@@ -371,3 +371,59 @@ mod tests {
         assert!(e.contains("need the ipm solver"), "{e}");
     }
 }
+
+/// Arguments of `stride rewrite`.
+#[derive(Args)]
+pub struct RewriteArgs {
+    /// Result folders of `stride predict` (or single study case folders) to rewrite.
+    #[arg(required = true)]
+    pub folders: Vec<PathBuf>,
+    /// The OpenSim model the folders were predicted with (default: the built-in model).
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+}
+
+/// Run `stride rewrite`: rewrite each folder's motion, tables, figures and outcomes from
+/// its `solution.json` with the current definitions (solver logs and times are kept). A
+/// folder without a kept solution is an error; every other folder is still rewritten.
+pub fn rewrite(args: RewriteArgs) -> anyhow::Result<()> {
+    use stride_ocp::solution::{rewrite_folder, Rewritten, SOLUTION_FILE};
+    let model = match &args.model {
+        Some(p) => stride_model::osim::load_osim(p)
+            .with_context(|| format!("loading model {}", p.display()))?,
+        None => stride_model::default_model::default_model(),
+    };
+    let mut failed = Vec::new();
+    for dir in &args.folders {
+        if !dir.join("summary.json").is_file() {
+            failed.push(format!(
+                "{}: not a result folder (no summary.json)",
+                dir.display()
+            ));
+            continue;
+        }
+        match rewrite_folder(&model, dir) {
+            Ok(Rewritten::Rewritten) => println!("rewrote {}", dir.display()),
+            Ok(Rewritten::NoSolution) => failed.push(format!(
+                "{}: no kept solution (no converged guess, or no {SOLUTION_FILE}: written \
+                 before stride kept one in every result folder)",
+                dir.display()
+            )),
+            Err(e) => failed.push(format!("{}: {e}", dir.display())),
+        }
+    }
+    if let [one] = &failed[..] {
+        if args.folders.len() == 1 {
+            bail!("{one}");
+        }
+    }
+    if !failed.is_empty() {
+        bail!(
+            "{} of {} folders not rewritten (left unchanged):\n  {}",
+            failed.len(),
+            args.folders.len(),
+            failed.join("\n  ")
+        );
+    }
+    Ok(())
+}

@@ -1,13 +1,7 @@
 //! `stride bench`: the solver tables at a tiny size, and argument validation.
 
-use std::process::{Command, Output};
-
-fn stride(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stride"))
-        .args(args)
-        .output()
-        .expect("running stride")
-}
+mod common;
+use common::{rejects, stride};
 
 #[test]
 fn bench_solver_at_five_intervals_prints_both_tables_and_converges() {
@@ -52,16 +46,6 @@ fn bench_solver_at_five_intervals_prints_both_tables_and_converges() {
     if !cfg!(feature = "ipopt") {
         assert!(text.contains("`all` runs ipm only"), "{text}");
     }
-}
-
-/// Runs `stride` with bad arguments: non-zero exit and one error line containing `needle`.
-fn rejects(args: &[&str], needle: &str) {
-    let out = stride(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} succeeded");
-    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
-    assert!(err.starts_with("error: "), "{args:?}: {err}");
-    assert!(err.contains(needle), "{args:?}: {err}");
 }
 
 #[test]

@@ -21,6 +21,7 @@ pub mod predict;
 pub mod problem;
 pub mod radau;
 pub mod settings;
+pub mod solution;
 pub mod tape_node;
 pub mod trajectory;
 pub mod transcription;

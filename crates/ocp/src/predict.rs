@@ -8,6 +8,7 @@ use crate::guess::{GuessKind, InitialGuess};
 use crate::node::NodeModel;
 use crate::problem::{GaitProblem, ProblemError};
 use crate::settings::{CycleKind, ProblemSettings};
+use crate::solution::{write_solution, SolutionFile};
 use crate::tape_node::TapeNode;
 use crate::trajectory::{Outcomes, Trajectory};
 use crate::transcription::Transcription;
@@ -304,6 +305,8 @@ pub fn write_results(
             let cycle = problem.gait_cycle(&mesh);
             outcomes = Some(problem.outcomes(&node, &mesh, &cycle)?);
             write_cycle(problem, &node, &cycle, &tmp)?;
+            let x = &solved[k].result.x;
+            write_solution(&tmp, &SolutionFile::new(&problem.settings, x, &cycle))?;
         }
         let summary = Summary {
             kept_guess: kept.map(|k| solved[k].report.guess),

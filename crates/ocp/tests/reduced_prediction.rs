@@ -25,6 +25,7 @@ use stride_ocp::{
     predict::{select, solve_guesses, write_results},
     problem::GaitProblem,
     settings::ProblemSettings,
+    solution::{rewrite_folder, Rewritten},
     tape_node::TapeNode,
     transcription::Transcription,
 };
@@ -217,8 +218,20 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
         "grf.csv",
         "activations.csv",
         "solver_log_data-informed-walking.csv",
+        "solution.json",
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
+
+    // The kept solution is stored exactly: rewriting the folder from its solution.json
+    // with the same definitions reproduces the motion file byte for byte.
+    let before = std::fs::read_to_string(out.join("motion.mot")).unwrap();
+    assert_eq!(
+        rewrite_folder(&model, &out).expect("rewrite"),
+        Rewritten::Rewritten
+    );
+    let after = std::fs::read_to_string(out.join("motion.mot")).unwrap();
+    assert!(before == after, "motion.mot changed when rewritten");
+    assert!(out.join("solver_log_data-informed-walking.csv").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }

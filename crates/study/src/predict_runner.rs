@@ -1,41 +1,26 @@
 //! The real case runner: builds the gait problem of a case, solves it from its initial
 //! guess (standard or continuation), writes `stride predict`'s result files, the solution
-//! (`solution.json`, for continuation guesses of later cases) and the outcome measures.
+//! (`solution.json`, for continuation guesses of later cases and rewrites) and the outcome
+//! measures.
 
 use crate::analysis::energy_phase_correlation;
 use crate::runner::CaseRunner;
 use crate::spec::{Case, CaseGuess};
 use crate::store::{CaseOutcome, Metrics};
-use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
-use stride_model::storage::write_atomic;
 use stride_model::Model;
 use stride_ocp::guess::ContinuationKind;
 use stride_ocp::measures::ConditionMeasures;
 use stride_ocp::node::NodeModel;
 use stride_ocp::predict::{self, GuessReport, Solved};
 use stride_ocp::problem::{GaitProblem, GRAVITY};
-use stride_ocp::settings::ProblemSettings;
 use stride_ocp::tape_node::TapeNode;
 use stride_ocp::transcription::Transcription;
 use stride_solve::solver::{ControlFlow, Solver, SolverOptions};
 
-/// File with a case's optimal NLP vector and its reconstructed cycle coordinates.
-pub const SOLUTION_FILE: &str = "solution.json";
-
-/// The solution of a finished case, as needed by continuation guesses.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct SolutionFile {
-    /// Settings the solution belongs to.
-    pub settings: ProblemSettings,
-    /// Scaled NLP variable vector of the kept solve.
-    pub x: Vec<f64>,
-    /// Sample times of the reconstructed gait cycle [s] (from right heel strike).
-    pub cycle_time: Vec<f64>,
-    /// Coordinates of the reconstructed cycle [rad or m], problem order.
-    pub cycle_q: Vec<Vec<f64>>,
-}
+use stride_ocp::solution::{read_solution, solution_problem, write_solution};
+pub use stride_ocp::solution::{Rewritten, SolutionFile, SOLUTION_FILE};
 
 /// Initial barrier parameter of a full-solution continuation.
 const WARM_START_MU: f64 = 1e-4;
@@ -58,20 +43,6 @@ fn err(e: impl std::fmt::Display) -> String {
     e.to_string()
 }
 
-/// The `solution.json` of a finished case folder.
-fn read_solution(dir: &Path) -> Result<SolutionFile, String> {
-    let p = dir.join(SOLUTION_FILE);
-    let text = std::fs::read_to_string(&p).map_err(|e| format!("reading {}: {e}", p.display()))?;
-    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
-}
-
-/// Write a case's `solution.json` into `dir` atomically.
-fn write_solution(dir: &Path, sol: &SolutionFile) -> Result<(), String> {
-    let p = dir.join(SOLUTION_FILE);
-    let json = serde_json::to_string(sol).map_err(err)?;
-    write_atomic(&p, json.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))
-}
-
 impl PredictRunner {
     /// Initial NLP vector of a continuation guess from the source case folder.
     fn continuation_guess(
@@ -80,7 +51,7 @@ impl PredictRunner {
         kind: ContinuationKind,
         source: &Path,
     ) -> Result<Vec<f64>, String> {
-        let sol = read_solution(source)?;
+        let sol = read_solution(source).map_err(err)?;
         match kind {
             ContinuationKind::FullSolution => {
                 let src = GaitProblem::new(
@@ -235,40 +206,23 @@ impl CaseRunner for PredictRunner {
                     energy_phase_correlation: corr,
                 });
             }
-            let sol = SolutionFile {
-                settings: case.settings.clone(),
-                x: solved[k].result.x.clone(),
-                cycle_time: cycle.time.clone(),
-                cycle_q: cycle.q.clone(),
-            };
-            write_solution(dir, &sol)?;
+            if kept.is_none() {
+                // `write_results` wrote the kept solution; the last iterate of an
+                // unconverged solve only here.
+                let sol = SolutionFile::new(&case.settings, &solved[k].result.x, &cycle);
+                write_solution(dir, &sol).map_err(err)?;
+            }
             outcome.solution_written = true;
         }
         Ok(outcome)
     }
 }
 
-/// A case folder's `solution.json` and the problem of its settings, checked to fit.
-fn solution_problem(model: &Model, dir: &Path) -> Result<(SolutionFile, GaitProblem), String> {
-    let sol = read_solution(dir)?;
-    let problem = GaitProblem::new(model, &sol.settings, &predict::bounds_data(&sol.settings))
-        .map_err(err)?;
-    if sol.x.len() != problem.layout.len() {
-        return Err(format!(
-            "{}: {} variables, the problem of its settings has {}",
-            dir.join(SOLUTION_FILE).display(),
-            sol.x.len(),
-            problem.layout.len()
-        ));
-    }
-    Ok((sol, problem))
-}
-
 /// Condition measures (`stride_ocp::measures`) of a finished case recomputed from its
 /// `solution.json`, so that a report uses the current definitions for cases solved by an
 /// earlier version.
 pub fn measures_from_solution(model: &Model, dir: &Path) -> Result<ConditionMeasures, String> {
-    let (sol, problem) = solution_problem(model, dir)?;
+    let (sol, problem) = solution_problem(model, dir).map_err(err)?;
     let node = NodeModel::new(&problem).map_err(err)?;
     let mesh = problem.mesh_solution(&node, &sol.x).map_err(err)?;
     problem
@@ -276,39 +230,10 @@ pub fn measures_from_solution(model: &Model, dir: &Path) -> Result<ConditionMeas
         .map_err(err)
 }
 
-/// What [`rewrite_case`] did with a case folder.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Rewritten {
-    /// The cycle files, outcomes and solution cycle were rewritten.
-    Rewritten,
-    /// The folder has no kept solution (not converged, or no `solution.json`): untouched.
-    NoSolution,
-}
-
-/// Rewrite a finished case folder's result files (motion, tables, figures, outcomes in
-/// `summary.json`) and the cycle of its `solution.json` from its solution with the current
-/// definitions, e.g. after a change in how the gait cycle is reconstructed. The solver
-/// files (logs, iterations, times) are kept; the folder is swapped in whole.
+/// Rewrite a finished case folder from its solution with the current definitions
+/// ([`stride_ocp::solution::rewrite_folder`]).
 pub fn rewrite_case(model: &Model, dir: &Path) -> Result<Rewritten, String> {
-    let summary = std::fs::read_to_string(dir.join("summary.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
-    let kept = summary.is_some_and(|s| !s["kept_guess"].is_null());
-    if !kept || !dir.join(SOLUTION_FILE).exists() {
-        return Ok(Rewritten::NoSolution);
-    }
-    let (mut sol, problem) = solution_problem(model, dir)?;
-    let x = sol.x.clone();
-    predict::rewrite_results(&problem, &x, dir, |cycle, tmp| {
-        sol.cycle_time.clone_from(&cycle.time);
-        sol.cycle_q.clone_from(&cycle.q);
-        write_solution(tmp, &sol).map_err(|reason| predict::PredictError::Write {
-            path: tmp.join(SOLUTION_FILE).display().to_string(),
-            reason,
-        })
-    })
-    .map_err(err)?;
-    Ok(Rewritten::Rewritten)
+    stride_ocp::solution::rewrite_folder(model, dir).map_err(err)
 }
 
 /// Build every case's problem once (model changes, bounds) so that a case the model cannot
