@@ -69,13 +69,57 @@ pub fn title_height(fig: &Figure) -> f64 {
     title + legend_height(fig)
 }
 
-/// Height of the figure-level legend row [px] (0 without entries).
-pub fn legend_height(fig: &Figure) -> f64 {
-    if fig.legend.is_empty() {
-        0.0
-    } else {
-        2.0 * (fig.font_size + 1.0)
+/// Font size of the figure-level legend [px].
+pub fn legend_font_size(fig: &Figure) -> f64 {
+    fig.font_size + 1.0
+}
+
+/// Length of a figure-level legend key [px] and the gap between entries [px].
+pub fn legend_key_and_gap(fig: &Figure) -> (f64, f64) {
+    let fs = legend_font_size(fig);
+    (2.2 * fs, 2.0 * fs)
+}
+
+/// Width [px] of each figure-level legend entry: key, space and label.
+pub fn legend_entry_widths(fig: &Figure) -> Vec<f64> {
+    let fs = legend_font_size(fig);
+    let (key, _) = legend_key_and_gap(fig);
+    fig.legend
+        .iter()
+        .map(|e| key + 0.4 * fs + CHAR_WIDTH * fs * e.label.chars().count() as f64)
+        .collect()
+}
+
+/// The figure-level legend's entries in rows that each fit the figure's width (with a
+/// 4 px margin on both sides), as index ranges; an entry wider than the figure gets a row
+/// of its own.
+pub fn legend_rows(fig: &Figure) -> Vec<std::ops::Range<usize>> {
+    let (_, gap) = legend_key_and_gap(fig);
+    let room = fig.width as f64 - 8.0;
+    let mut rows = Vec::new();
+    let (mut start, mut used) = (0, 0.0);
+    for (i, w) in legend_entry_widths(fig).into_iter().enumerate() {
+        if i > start && used + gap + w > room {
+            rows.push(start..i);
+            (start, used) = (i, w);
+        } else {
+            used += if i > start { gap + w } else { w };
+        }
     }
+    if start < fig.legend.len() {
+        rows.push(start..fig.legend.len());
+    }
+    rows
+}
+
+/// Height of one figure-level legend row [px].
+pub fn legend_row_height(fig: &Figure) -> f64 {
+    2.0 * legend_font_size(fig)
+}
+
+/// Height of the figure-level legend [px] (0 without entries).
+pub fn legend_height(fig: &Figure) -> f64 {
+    legend_rows(fig).len() as f64 * legend_row_height(fig)
 }
 
 /// Limits and ticks of a panel's axes.

@@ -4,7 +4,10 @@ use crate::color::Color;
 use crate::error::PlotError;
 use crate::figure::LegendKey;
 use crate::figure::{Figure, Panel};
-use crate::layout::{legend_height, plot_area, title_height, PlotArea, CHAR_WIDTH, TICK_LENGTH};
+use crate::layout::{
+    legend_entry_widths, legend_font_size, legend_height, legend_key_and_gap, legend_row_height,
+    legend_rows, plot_area, title_height, PlotArea, CHAR_WIDTH, TICK_LENGTH,
+};
 use crate::ticks::format_tick;
 use std::fmt::Write as _;
 
@@ -351,49 +354,50 @@ fn dash_attr(dash: &Option<Vec<f64>>) -> String {
     }
 }
 
-/// The figure-level legend: one centred row of entries at height `cy`.
-fn write_figure_legend(out: &mut String, fig: &Figure, cy: f64) {
-    let fs = fig.font_size + 1.0;
-    let key = 2.2 * fs;
-    let gap = 2.0 * fs;
-    let widths: Vec<f64> = fig
-        .legend
-        .iter()
-        .map(|e| key + 0.4 * fs + CHAR_WIDTH * fs * e.label.chars().count() as f64)
-        .collect();
-    let total = widths.iter().sum::<f64>() + gap * (widths.len().saturating_sub(1)) as f64;
-    let mut x = (0.5 * (fig.width as f64 - total)).max(4.0);
-    for (e, w) in fig.legend.iter().zip(&widths) {
-        match &e.key {
-            LegendKey::Fill(c) => {
-                let _ = writeln!(
-                    out,
-                    "<rect x=\"{x:.2}\" y=\"{:.2}\" width=\"{key:.2}\" height=\"{:.2}\" {}/>",
-                    cy - 0.4 * fs,
-                    0.8 * fs,
-                    paint("fill", *c)
-                );
+/// The figure-level legend: centred rows of entries (as many as the width needs) from
+/// height `top` down.
+fn write_figure_legend(out: &mut String, fig: &Figure, top: f64) {
+    let fs = legend_font_size(fig);
+    let (key, gap) = legend_key_and_gap(fig);
+    let widths = legend_entry_widths(fig);
+    let row_h = legend_row_height(fig);
+    for (r, row) in legend_rows(fig).into_iter().enumerate() {
+        let cy = top + (r as f64 + 0.5) * row_h;
+        let total = widths[row.clone()].iter().sum::<f64>() + gap * (row.len() - 1) as f64;
+        let mut x = (0.5 * (fig.width as f64 - total)).max(4.0);
+        for i in row {
+            let e = &fig.legend[i];
+            match &e.key {
+                LegendKey::Fill(c) => {
+                    let _ = writeln!(
+                        out,
+                        "<rect x=\"{x:.2}\" y=\"{:.2}\" width=\"{key:.2}\" height=\"{:.2}\" {}/>",
+                        cy - 0.4 * fs,
+                        0.8 * fs,
+                        paint("fill", *c)
+                    );
+                }
+                LegendKey::Line { color, width, dash } => {
+                    let _ = writeln!(
+                        out,
+                        "<line x1=\"{x:.2}\" y1=\"{cy:.2}\" x2=\"{:.2}\" y2=\"{cy:.2}\" {} stroke-width=\"{width:.2}\"{}/>",
+                        x + key,
+                        paint("stroke", *color),
+                        dash_attr(dash)
+                    );
+                }
             }
-            LegendKey::Line { color, width, dash } => {
-                let _ = writeln!(
-                    out,
-                    "<line x1=\"{x:.2}\" y1=\"{cy:.2}\" x2=\"{:.2}\" y2=\"{cy:.2}\" {} stroke-width=\"{width:.2}\"{}/>",
-                    x + key,
-                    paint("stroke", *color),
-                    dash_attr(dash)
-                );
-            }
+            text(
+                out,
+                x + key + 0.4 * fs,
+                cy + 0.35 * fs,
+                fs,
+                "start",
+                false,
+                &e.label,
+            );
+            x += widths[i] + gap;
         }
-        text(
-            out,
-            x + key + 0.4 * fs,
-            cy + 0.35 * fs,
-            fs,
-            "start",
-            false,
-            &e.label,
-        );
-        x += w + gap;
     }
 }
 
@@ -421,7 +425,7 @@ impl Figure {
             );
         }
         if !self.legend.is_empty() {
-            write_figure_legend(&mut out, self, title_height(self) - 0.5 * legend_h);
+            write_figure_legend(&mut out, self, title_height(self) - legend_h);
         }
         for (i, p) in self.panels.iter().enumerate() {
             write_panel(&mut out, self, i, p);

@@ -233,3 +233,46 @@ fn figure_legend_sits_under_the_title_and_above_the_panels() {
     plain.legend.clear();
     assert!(with > plain.plot_areas()[0].top + 10.0);
 }
+
+#[test]
+fn a_wide_figure_legend_wraps_into_rows_inside_the_figure() {
+    use stride_plot::LegendEntry;
+    let s = Series::new(vec![0.0, 1.0], vec![0.0, 1.0], Color::BLUE);
+    let labels = [
+        "unaffected (left)",
+        "affected (right, prosthesis)",
+        "amputees, affected side (Quesada et al. 2016, mean ± 2 SD)",
+    ];
+    let mut fig = Figure::new(500, 400, 1, 1).panel(Panel::new("p", "x", "y").line(s.clone()));
+    for l in labels {
+        fig = fig.legend_entry(LegendEntry::for_series(&s, l));
+    }
+    let svg = fig.to_svg().unwrap();
+    parse_svg(&svg).unwrap();
+    // Each label starts inside the figure and, at the font's advance width, ends inside it.
+    let fs = fig.font_size + 1.0;
+    let mut ys = Vec::new();
+    for l in labels {
+        let end = format!(">{l}</text>");
+        let at = svg
+            .find(&end)
+            .unwrap_or_else(|| panic!("label {l} missing"));
+        let tag = &svg[svg[..at].rfind("<text").unwrap()..at];
+        let attr = |name: &str| -> f64 {
+            let i = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+            tag[i..i + tag[i..].find('"').unwrap()].parse().unwrap()
+        };
+        let (x, y) = (attr("x"), attr("y"));
+        assert!(x >= 0.0, "{l} starts at {x}");
+        let right = x + 0.62 * fs * l.chars().count() as f64;
+        assert!(right <= 500.0, "{l} ends at {right} px of 500");
+        ys.push(y);
+    }
+    // The long label needs its own row below the first two, which share one.
+    assert_eq!(ys[0], ys[1]);
+    assert!(ys[2] > ys[1] + fs, "rows at {ys:?}");
+    // The panel moves down by the second row.
+    let mut one_row = fig.clone();
+    one_row.legend.truncate(2);
+    assert!(fig.plot_areas()[0].top >= one_row.plot_areas()[0].top + 2.0 * fs - 1e-9);
+}
