@@ -55,14 +55,9 @@ impl Tape {
         Ok(points)
     }
 
-    /// Value sweeps of every lane at `xs` (lanes beyond the last point repeat it), writing
-    /// the outputs of the real points into `ys`; with `lambdas`, also each lane's adjoint
-    /// sweep with its point's multipliers.
-    ///
-    /// Values alone (`ORD == 0`) are swept for all lanes at once, each operation decoded
-    /// once (2× faster on the gait tape); with partials, lane after lane, which measured
-    /// faster (the four lanes' partials stores together outgrow the cache;
-    /// docs/decisions/0001-derivatives.md).
+    /// Value sweeps of every lane at `xs`, all lanes in one sweep (lanes beyond the last
+    /// point repeat it), writing the outputs of the real points into `ys`; with `lambdas`,
+    /// also each lane's adjoint sweep with its point's multipliers.
     fn batch_values<const ORD: u8>(
         &self,
         xs: &[f64],
@@ -74,16 +69,10 @@ impl Tape {
         let (n, m) = (self.n_in, self.outputs.len());
         let point = |l: usize| l.min(points - 1);
         let inputs: [&[f64]; BATCH] = std::array::from_fn(|l| &xs[point(l) * n..][..n]);
-        if ORD == 0 {
-            let lanes: &mut [Workspace; BATCH] = (&mut bw.lanes[..])
-                .try_into()
-                .expect("a batch workspace holds BATCH lanes");
-            self.forward_lanes::<ORD, BATCH>(inputs, lanes.each_mut());
-        } else {
-            for (ws, x) in bw.lanes.iter_mut().zip(inputs) {
-                self.forward::<ORD>(x, ws);
-            }
-        }
+        let lanes: &mut [Workspace; BATCH] = (&mut bw.lanes[..])
+            .try_into()
+            .expect("a batch workspace holds BATCH lanes");
+        self.forward_lanes::<ORD, BATCH>(inputs, lanes.each_mut());
         for (l, ws) in bw.lanes.iter_mut().enumerate() {
             if l < points {
                 self.write_outputs(ws, &mut ys[l * m..(l + 1) * m]);

@@ -15,6 +15,8 @@ impl Tape {
     /// [`Tape::forward`] at `L` points at once, point `l` into workspace `ws[l]`: each
     /// operation is decoded once and applied to every lane (same numbers as `L` single
     /// sweeps).
+    // The lane loops index several per-lane arrays by the same lane.
+    #[allow(clippy::needless_range_loop)]
     pub(super) fn forward_lanes<const ORD: u8, const L: usize>(
         &self,
         xs: [&[f64]; L],
@@ -36,147 +38,190 @@ impl Tape {
                 sec[l] = &mut w.sec[..n];
             }
         }
-        /// Every lane with the same first and second partials.
-        fn same<const L: usize>(
-            val: [f64; L],
-            p: [f64; 2],
-        ) -> ([f64; L], [[f64; 2]; L], [[f64; 3]; L]) {
-            (val, [p; L], [[0.0; 3]; L])
-        }
-        /// Lanes of a unary function from its `[value, first, second]` derivatives.
-        fn unary<const L: usize>(f: [[f64; 3]; L]) -> ([f64; L], [[f64; 2]; L], [[f64; 3]; L]) {
-            (
-                std::array::from_fn(|l| f[l][0]),
-                std::array::from_fn(|l| [f[l][1], 0.0]),
-                std::array::from_fn(|l| [f[l][2], 0.0, 0.0]),
-            )
-        }
+        const Z2: [f64; 2] = [0.0; 2];
+        const Z3: [f64; 3] = [0.0; 3];
         for (t, op) in self.ops.iter().enumerate() {
-            let v = |i: u32| -> [f64; L] { std::array::from_fn(|l| vals[l][i as usize]) };
-            let (val, p, s): ([f64; L], [[f64; 2]; L], [[f64; 3]; L]) = match *op {
-                Op::Input(i) => same(std::array::from_fn(|l| xs[l][i as usize]), [0.0; 2]),
-                Op::Const(c) => same([c; L], [0.0; 2]),
-                Op::Add(a, b) => {
-                    let (va, vb) = (v(a), v(b));
-                    same(std::array::from_fn(|l| va[l] + vb[l]), [1.0, 1.0])
-                }
-                Op::Sub(a, b) => {
-                    let (va, vb) = (v(a), v(b));
-                    same(std::array::from_fn(|l| va[l] - vb[l]), [1.0, -1.0])
-                }
-                Op::Mul(a, b) => {
-                    let (va, vb) = (v(a), v(b));
-                    (
-                        std::array::from_fn(|l| va[l] * vb[l]),
-                        std::array::from_fn(|l| [vb[l], va[l]]),
-                        [[0.0, 1.0, 0.0]; L],
-                    )
-                }
-                Op::Div(a, b) => {
-                    let (va, vb) = (v(a), v(b));
-                    let q: [f64; L] = std::array::from_fn(|l| va[l] / vb[l]);
-                    if ORD == 0 {
-                        same(q, [0.0; 2])
-                    } else {
-                        let r: [f64; L] = std::array::from_fn(|l| 1.0 / vb[l]);
-                        (
-                            q,
-                            std::array::from_fn(|l| [r[l], -q[l] * r[l]]),
-                            std::array::from_fn(|l| [0.0, -r[l] * r[l], 2.0 * q[l] * r[l] * r[l]]),
-                        )
+            let k = n_in + t;
+            // The operand `i` of every lane.
+            macro_rules! v {
+                ($i:expr) => {{
+                    let i = $i as usize;
+                    let lanes: [f64; L] = std::array::from_fn(|l| vals[l][i]);
+                    lanes
+                }};
+            }
+            // Store lane `l`'s value, partials and second partials (the partials are only
+            // evaluated when stored). Written element by element, straight from registers:
+            // building per-lane arrays and copying them compiled to wide loads of narrower
+            // stores just made (a store-forwarding stall on every operation).
+            macro_rules! put {
+                ($l:expr, $val:expr, $p:expr, $s:expr) => {{
+                    let l = $l;
+                    vals[l][k] = $val;
+                    if ORD >= 1 {
+                        let p: [f64; 2] = $p;
+                        let d = &mut part[l][t];
+                        d[0] = p[0];
+                        d[1] = p[1];
+                    }
+                    if ORD >= 2 {
+                        let s: [f64; 3] = $s;
+                        let d = &mut sec[l][t];
+                        d[0] = s[0];
+                        d[1] = s[1];
+                        d[2] = s[2];
+                    }
+                }};
+            }
+            match *op {
+                Op::Input(i) => {
+                    for l in 0..L {
+                        put!(l, xs[l][i as usize], Z2, Z3);
                     }
                 }
-                Op::Neg(a) => same(v(a).map(|x| -x), [-1.0, 0.0]),
-                Op::AddC(a, c) => same(v(a).map(|x| x + c), [1.0, 0.0]),
-                Op::MulC(a, c) => same(v(a).map(|x| x * c), [c, 0.0]),
-                Op::DivC(a, c) => same(v(a).map(|x| x / c), [1.0 / c, 0.0]),
+                Op::Const(c) => {
+                    for l in 0..L {
+                        put!(l, c, Z2, Z3);
+                    }
+                }
+                Op::Add(a, b) => {
+                    let (va, vb) = (v!(a), v!(b));
+                    for l in 0..L {
+                        put!(l, va[l] + vb[l], [1.0, 1.0], Z3);
+                    }
+                }
+                Op::Sub(a, b) => {
+                    let (va, vb) = (v!(a), v!(b));
+                    for l in 0..L {
+                        put!(l, va[l] - vb[l], [1.0, -1.0], Z3);
+                    }
+                }
+                Op::Mul(a, b) => {
+                    let (va, vb) = (v!(a), v!(b));
+                    for l in 0..L {
+                        put!(l, va[l] * vb[l], [vb[l], va[l]], [0.0, 1.0, 0.0]);
+                    }
+                }
+                Op::Div(a, b) => {
+                    let (va, vb) = (v!(a), v!(b));
+                    for l in 0..L {
+                        let q = va[l] / vb[l];
+                        if ORD == 0 {
+                            put!(l, q, Z2, Z3);
+                        } else {
+                            let r = 1.0 / vb[l];
+                            put!(l, q, [r, -q * r], [0.0, -r * r, 2.0 * q * r * r]);
+                        }
+                    }
+                }
+                Op::Neg(a) => {
+                    let va = v!(a);
+                    for l in 0..L {
+                        put!(l, -va[l], [-1.0, 0.0], Z3);
+                    }
+                }
+                Op::AddC(a, c) => {
+                    let va = v!(a);
+                    for l in 0..L {
+                        put!(l, va[l] + c, [1.0, 0.0], Z3);
+                    }
+                }
+                Op::MulC(a, c) => {
+                    let va = v!(a);
+                    for l in 0..L {
+                        put!(l, va[l] * c, [c, 0.0], Z3);
+                    }
+                }
+                Op::DivC(a, c) => {
+                    let va = v!(a);
+                    for l in 0..L {
+                        put!(l, va[l] / c, [1.0 / c, 0.0], Z3);
+                    }
+                }
                 Op::CDiv(c, a) => {
-                    let va = v(a);
-                    let q: [f64; L] = std::array::from_fn(|l| c / va[l]);
-                    if ORD == 0 {
-                        same(q, [0.0; 2])
-                    } else {
-                        let r: [f64; L] = std::array::from_fn(|l| 1.0 / va[l]);
-                        (
-                            q,
-                            std::array::from_fn(|l| [-q[l] * r[l], 0.0]),
-                            std::array::from_fn(|l| [2.0 * q[l] * r[l] * r[l], 0.0, 0.0]),
-                        )
+                    let va = v!(a);
+                    for l in 0..L {
+                        let q = c / va[l];
+                        if ORD == 0 {
+                            put!(l, q, Z2, Z3);
+                        } else {
+                            let r = 1.0 / va[l];
+                            put!(l, q, [-q * r, 0.0], [2.0 * q * r * r, 0.0, 0.0]);
+                        }
                     }
                 }
                 Op::Unary(a, e) => {
-                    if ORD == 0 {
-                        same(v(a).map(|x| e.value(x)), [0.0; 2])
-                    } else {
-                        let va = v(a);
-                        unary(std::array::from_fn(|l| e.eval3(va[l])))
+                    let va = v!(a);
+                    for l in 0..L {
+                        if ORD == 0 {
+                            put!(l, e.value(va[l]), Z2, Z3);
+                        } else {
+                            let f = e.eval3(va[l]);
+                            put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
+                        }
                     }
                 }
                 Op::Powf(a, pw) => {
-                    if ORD == 0 {
-                        same(v(a).map(|x| x.powf(pw)), [0.0; 2])
-                    } else {
-                        let va = v(a);
-                        unary(std::array::from_fn(|l| powf3(va[l], pw)))
+                    let va = v!(a);
+                    for l in 0..L {
+                        if ORD == 0 {
+                            put!(l, va[l].powf(pw), Z2, Z3);
+                        } else {
+                            let f = powf3(va[l], pw);
+                            put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
+                        }
                     }
                 }
                 Op::Powi(a, n) => {
-                    if ORD == 0 {
-                        same(v(a).map(|x| x.powi(n)), [0.0; 2])
-                    } else {
-                        let va = v(a);
-                        unary(std::array::from_fn(|l| powi3(va[l], n)))
+                    let va = v!(a);
+                    for l in 0..L {
+                        if ORD == 0 {
+                            put!(l, va[l].powi(n), Z2, Z3);
+                        } else {
+                            let f = powi3(va[l], n);
+                            put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
+                        }
                     }
                 }
-                Op::Apply(a, k) => {
-                    let va = v(a);
-                    let f = &self.fns[k as usize];
-                    unary(std::array::from_fn(|l| f.eval(va[l])))
+                Op::Apply(a, i) => {
+                    let va = v!(a);
+                    let func = &self.fns[i as usize];
+                    for l in 0..L {
+                        let f = func.eval(va[l]);
+                        put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
+                    }
                 }
                 Op::Min(a, b) => {
-                    let (va, vb) = (v(a), v(b));
-                    (
-                        std::array::from_fn(|l| f64::min(va[l], vb[l])),
-                        std::array::from_fn(|l| {
-                            if va[l] <= vb[l] {
-                                [1.0, 0.0]
-                            } else {
-                                [0.0, 1.0]
-                            }
-                        }),
-                        [[0.0; 3]; L],
-                    )
+                    let (va, vb) = (v!(a), v!(b));
+                    for l in 0..L {
+                        let pick = if va[l] <= vb[l] {
+                            [1.0, 0.0]
+                        } else {
+                            [0.0, 1.0]
+                        };
+                        put!(l, f64::min(va[l], vb[l]), pick, Z3);
+                    }
                 }
                 Op::Max(a, b) => {
-                    let (va, vb) = (v(a), v(b));
-                    (
-                        std::array::from_fn(|l| f64::max(va[l], vb[l])),
-                        std::array::from_fn(|l| {
-                            if va[l] >= vb[l] {
-                                [1.0, 0.0]
-                            } else {
-                                [0.0, 1.0]
-                            }
-                        }),
-                        [[0.0; 3]; L],
-                    )
+                    let (va, vb) = (v!(a), v!(b));
+                    for l in 0..L {
+                        let pick = if va[l] >= vb[l] {
+                            [1.0, 0.0]
+                        } else {
+                            [0.0, 1.0]
+                        };
+                        put!(l, f64::max(va[l], vb[l]), pick, Z3);
+                    }
                 }
                 Op::Select(c, p, n) => {
-                    let (vc, vp, vn) = (v(c), v(p), v(n));
-                    (
-                        std::array::from_fn(|l| if vc[l] > 0.0 { vp[l] } else { vn[l] }),
-                        std::array::from_fn(|l| if vc[l] > 0.0 { [1.0, 0.0] } else { [0.0, 1.0] }),
-                        [[0.0; 3]; L],
-                    )
-                }
-            };
-            for l in 0..L {
-                vals[l][n_in + t] = val[l];
-                if ORD >= 1 {
-                    part[l][t] = p[l];
-                }
-                if ORD >= 2 {
-                    sec[l][t] = s[l];
+                    let (vc, vp, vn) = (v!(c), v!(p), v!(n));
+                    for l in 0..L {
+                        if vc[l] > 0.0 {
+                            put!(l, vp[l], [1.0, 0.0], Z3);
+                        } else {
+                            put!(l, vn[l], [0.0, 1.0], Z3);
+                        }
+                    }
                 }
             }
         }
