@@ -116,7 +116,7 @@ impl Tape {
         check_len("Jacobian values jacs", nnz * points, jacs.len())?;
         self.batch_values::<1>(xs, None, points, bw, ys);
         let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
-        self.sparse_forward(part, &mut bw.grad);
+        self.sparse_forward_batch(part, &mut bw.grad);
         for (l, jac) in jacs.chunks_exact_mut(nnz.max(1)).take(points).enumerate() {
             self.sparse_jacobian_extract(&bw.grad, l, jac);
         }
@@ -141,7 +141,7 @@ impl Tape {
         check_len("Hessian values hes", nnz * points, hes.len())?;
         self.batch_values::<2>(xs, Some(lambdas), points, bw, ys);
         let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
-        self.sparse_forward(part, &mut bw.grad);
+        self.sparse_forward_batch(part, &mut bw.grad);
         let locals: [LaneLocals<'_>; BATCH] = std::array::from_fn(|l| LaneLocals {
             part: &bw.lanes[l].part,
             sec: &bw.lanes[l].sec,
@@ -161,7 +161,7 @@ impl Tape {
             };
             next.expect("one block of nnz values per lane (lengths checked above)")
         });
-        self.sparse_hessian(locals, &bw.grad, &mut bw.adot, outs);
+        self.sparse_hessian_batch(locals, &bw.grad, &mut bw.adot, outs);
         Ok(())
     }
 }
