@@ -255,8 +255,17 @@ pub fn select(solved: &[Solved]) -> Option<usize> {
         .map(|(i, _)| i)
 }
 
-fn write_err(path: &Path, e: impl ToString) -> PredictError {
+/// A write error naming `path`.
+pub(crate) fn write_err(path: &Path, e: impl ToString) -> PredictError {
     PredictError::Write {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    }
+}
+
+/// A read error naming `path`.
+pub(crate) fn read_err(path: &Path, e: impl ToString) -> PredictError {
+    PredictError::Read {
         path: path.display().to_string(),
         reason: e.to_string(),
     }
@@ -367,14 +376,11 @@ pub fn rewrite_results(
     also: impl FnOnce(&Trajectory, &Path) -> Result<(), PredictError>,
 ) -> Result<Outcomes, PredictError> {
     let summary_path = out.join("summary.json");
-    let read_err = |e: &dyn std::fmt::Display| PredictError::Read {
-        path: summary_path.display().to_string(),
-        reason: e.to_string(),
-    };
-    let text = std::fs::read_to_string(&summary_path).map_err(|e| read_err(&e))?;
-    let mut summary: serde_json::Value = serde_json::from_str(&text).map_err(|e| read_err(&e))?;
+    let text = std::fs::read_to_string(&summary_path).map_err(|e| read_err(&summary_path, e))?;
+    let mut summary: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| read_err(&summary_path, e))?;
     if !summary.is_object() {
-        return Err(read_err(&"not a JSON object"));
+        return Err(read_err(&summary_path, "not a JSON object"));
     }
     let node = NodeModel::new(problem)?;
     let mesh = problem.mesh_solution(&node, x)?;

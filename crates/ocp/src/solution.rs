@@ -3,7 +3,7 @@
 //! write it, so that a folder can be rewritten with the current definitions
 //! ([`rewrite_folder`]) and serve as the source of a continuation guess.
 
-use crate::predict::{bounds_data, rewrite_results, PredictError};
+use crate::predict::{bounds_data, read_err, rewrite_results, write_err, PredictError};
 use crate::problem::GaitProblem;
 use crate::settings::ProblemSettings;
 use crate::trajectory::Trajectory;
@@ -43,23 +43,15 @@ impl SolutionFile {
 /// The `solution.json` of a result folder.
 pub fn read_solution(dir: &Path) -> Result<SolutionFile, PredictError> {
     let p = dir.join(SOLUTION_FILE);
-    let read_err = |reason: String| PredictError::Read {
-        path: p.display().to_string(),
-        reason,
-    };
-    let text = std::fs::read_to_string(&p).map_err(|e| read_err(e.to_string()))?;
-    serde_json::from_str(&text).map_err(|e| read_err(e.to_string()))
+    let text = std::fs::read_to_string(&p).map_err(|e| read_err(&p, e))?;
+    serde_json::from_str(&text).map_err(|e| read_err(&p, e))
 }
 
 /// Write `sol` as the `solution.json` of `dir`, atomically.
 pub fn write_solution(dir: &Path, sol: &SolutionFile) -> Result<(), PredictError> {
     let p = dir.join(SOLUTION_FILE);
-    let write_err = |reason: String| PredictError::Write {
-        path: p.display().to_string(),
-        reason,
-    };
-    let json = serde_json::to_string(sol).map_err(|e| write_err(e.to_string()))?;
-    write_atomic(&p, json.as_bytes()).map_err(|e| write_err(e.to_string()))
+    let json = serde_json::to_string(sol).map_err(|e| write_err(&p, e))?;
+    write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))
 }
 
 /// A folder's `solution.json` and the problem of its settings built with `model`, checked
@@ -71,14 +63,12 @@ pub fn solution_problem(
     let sol = read_solution(dir)?;
     let problem = GaitProblem::new(model, &sol.settings, &bounds_data(&sol.settings))?;
     if sol.x.len() != problem.layout.len() {
-        return Err(PredictError::Read {
-            path: dir.join(SOLUTION_FILE).display().to_string(),
-            reason: format!(
-                "{} variables, the problem of its settings has {}",
-                sol.x.len(),
-                problem.layout.len()
-            ),
-        });
+        let reason = format!(
+            "{} variables, the problem of its settings has {}",
+            sol.x.len(),
+            problem.layout.len()
+        );
+        return Err(read_err(&dir.join(SOLUTION_FILE), reason));
     }
     Ok((sol, problem))
 }

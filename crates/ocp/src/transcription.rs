@@ -577,6 +577,22 @@ impl<F: NodeFunction> Transcription<F> {
         }
     }
 
+    /// Gathers the inputs of the `points` nodes from `first` on into `xin`, one block per
+    /// node, and returns those blocks.
+    fn gather_points<'a>(
+        &self,
+        x: &[f64],
+        first: usize,
+        points: usize,
+        xin: &'a mut [f64],
+    ) -> &'a [f64] {
+        let n = self.inputs.len();
+        for p in 0..points {
+            self.gather(x, first + p, &mut xin[p * n..(p + 1) * n]);
+        }
+        &xin[..points * n]
+    }
+
     /// Evaluate all nodes (values, and Jacobians if `with_jac`) at `x`, using the cache.
     fn with_nodes<R>(&self, x: &[f64], with_jac: bool, f: impl FnOnce(&Cache) -> R) -> R {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
@@ -602,11 +618,8 @@ impl<F: NodeFunction> Transcription<F> {
                 .for_each_init(
                     || vec![0.0; nin * batch],
                     |xin, (b, (y, jac))| {
-                        let points = y.len() / nout;
-                        for p in 0..points {
-                            self.gather(x, b * batch + p, &mut xin[p * nin..(p + 1) * nin]);
-                        }
-                        self.node.jacobian_batch(&xin[..points * nin], y, jac);
+                        let xs = self.gather_points(x, b * batch, y.len() / nout, xin);
+                        self.node.jacobian_batch(xs, y, jac);
                     },
                 );
             c.valid_jac = true;
@@ -621,11 +634,8 @@ impl<F: NodeFunction> Transcription<F> {
                 .for_each_init(
                     || vec![0.0; nin * batch],
                     |xin, (b, y)| {
-                        let points = y.len() / nout;
-                        for p in 0..points {
-                            self.gather(x, b * batch + p, &mut xin[p * nin..(p + 1) * nin]);
-                        }
-                        self.node.eval_batch(&xin[..points * nin], y);
+                        let xs = self.gather_points(x, b * batch, y.len() / nout, xin);
+                        self.node.eval_batch(xs, y);
                     },
                 );
             c.valid_values = true;

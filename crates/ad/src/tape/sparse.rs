@@ -79,22 +79,39 @@ struct Term {
     set: Span,
     /// Forward `P(j) → P(root)`; reverse `R(root) → R(j)`.
     map: Map,
-    /// Product of the constant partials along the path from the root to `j`.
+    /// The coefficient of `j` in the combination.
+    w: Weight,
+}
+
+/// The coefficient of one node in a collapsed combination: the product of the constant
+/// partials along the path from the root, times, through a folded operation, that
+/// operation's local partial at the evaluation point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Weight {
+    /// Product of the constant partials along the path.
     coef: f64,
-    /// Operation whose local partial also multiplies `coef` (folded product), and which
-    /// partial: `side` 0 none, 1 `∂/∂a`, 2 `∂/∂b`, 3 their sum (both operands `j`).
+    /// The folded operation whose local partial also multiplies `coef`.
     part: u32,
+    /// Which partial: 0 none, 1 `∂/∂a`, 2 `∂/∂b`, 3 their sum (both operands the node).
     side: u8,
 }
 
-/// One stored node of a collapsed combination: its node, constant path coefficient and
-/// the folded operation's partial that multiplies it (see [`Term`]).
+/// The partial `side` (1 `∂/∂a`, 2 `∂/∂b`, otherwise their sum) of the operation partials
+/// `[∂/∂a, ∂/∂b]`.
+#[inline(always)]
+fn partial_of(side: u8, [pa, pb]: [f64; 2]) -> f64 {
+    match side {
+        1 => pa,
+        2 => pb,
+        _ => pa + pb,
+    }
+}
+
+/// One stored node of a collapsed combination and its coefficient.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Leaf {
     node: u32,
-    coef: f64,
-    part: u32,
-    side: u8,
+    w: Weight,
 }
 
 /// A slice `[start, start + len)` of one of the stores.
@@ -443,9 +460,7 @@ fn push_terms(
         terms.push(Term {
             set,
             map,
-            coef: leaf.coef,
-            part: leaf.part,
-            side: leaf.side,
+            w: leaf.w,
         });
     }
     Span {
@@ -529,42 +544,41 @@ fn combination_leaves(cx: &LeafContext<'_>, k: u32, scale: f64, out: &mut Vec<Le
             continue;
         }
         match partials {
-            Some([pa, pb]) => {
-                let c = match side {
-                    1 => pa,
-                    2 => pb,
-                    _ => pa + pb,
-                };
+            Some(p) => {
+                let c = scale * partial_of(side, p);
                 if cx.folded[j as usize] {
-                    combination_leaves(cx, j, scale * c, out);
+                    combination_leaves(cx, j, c, out);
                 } else {
-                    out.push(Leaf {
-                        node: j,
-                        coef: scale * c,
+                    let w = Weight {
+                        coef: c,
                         part: 0,
                         side: 0,
-                    });
+                    };
+                    out.push(Leaf { node: j, w });
                 }
             }
             // A folded operation: its operands are stored; its partial is read at
             // evaluation time.
-            None => out.push(Leaf {
-                node: j,
-                coef: scale,
-                part: t as u32,
-                side,
-            }),
+            None => {
+                let w = Weight {
+                    coef: scale,
+                    part: t as u32,
+                    side,
+                };
+                out.push(Leaf { node: j, w });
+            }
         }
     }
 }
 
 /// Sorts leaves by node and merges those with the same node and the same folded partial.
 fn merge_leaves(leaves: &mut [Leaf]) -> Vec<Leaf> {
-    leaves.sort_by_key(|l| (l.node, l.part, l.side));
+    let key = |l: &Leaf| (l.node, l.w.part, l.w.side);
+    leaves.sort_by_key(key);
     let mut merged: Vec<Leaf> = Vec::with_capacity(leaves.len());
     for &l in leaves.iter() {
         match merged.last_mut() {
-            Some(m) if (m.node, m.part, m.side) == (l.node, l.part, l.side) => m.coef += l.coef,
+            Some(m) if key(m) == key(&l) => m.w.coef += l.w.coef,
             _ => merged.push(l),
         }
     }
@@ -646,15 +660,11 @@ impl super::Tape {
                 let gk = &mut hi[..s.k_len as usize];
                 gk.iter_mut().for_each(|x| *x = [0.0; L]);
                 for term in &sp.terms[s.terms.range()] {
-                    let mut c = [term.coef; L];
-                    if term.side != 0 {
+                    let w = term.w;
+                    let mut c = [w.coef; L];
+                    if w.side != 0 {
                         for l in 0..L {
-                            let [pa, pb] = part[l][term.part as usize];
-                            c[l] *= match term.side {
-                                1 => pa,
-                                2 => pb,
-                                _ => pa + pb,
-                            };
+                            c[l] *= partial_of(w.side, part[l][w.part as usize]);
                         }
                     }
                     axpy(gk, &lo[term.set.range()], c, term.map, &sp.store);
@@ -730,7 +740,7 @@ impl super::Tape {
                     axpy(
                         &mut lo[term.set.range()],
                         dk,
-                        [term.coef; L],
+                        [term.w.coef; L],
                         term.map,
                         &sp.store,
                     );
@@ -801,26 +811,19 @@ impl super::Tape {
     }
 }
 
-/// The batch sweeps compiled a second time for 256-bit vectors (AVX2), chosen at run time
-/// when the processor has them: a batch entry holds 4 lanes of `f64`, one AVX2 register,
-/// where the baseline x86-64 build needs two SSE2 operations. Same operations in the same
-/// order (no fused multiply-add), so the numbers are identical.
 impl super::Tape {
-    /// [`super::Tape::sparse_forward`] for a batch of `L` lanes.
+    /// [`super::Tape::sparse_forward`] for a batch of `L` lanes, with wide vectors when
+    /// the processor has them ([`with_wide_vectors`]).
     pub(super) fn sparse_forward_batch<const L: usize>(
         &self,
         part: [&[[f64; 2]]; L],
         g: &mut [[f64; L]],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the processor has AVX2 (checked just above).
-            return unsafe { self.sparse_forward_avx2(part, g) };
-        }
-        self.sparse_forward(part, g)
+        with_wide_vectors(|| self.sparse_forward(part, g))
     }
 
-    /// [`super::Tape::sparse_hessian`] for a batch of `L` lanes.
+    /// [`super::Tape::sparse_hessian`] for a batch of `L` lanes, with wide vectors when
+    /// the processor has them ([`with_wide_vectors`]).
     pub(super) fn sparse_hessian_batch<const L: usize>(
         &self,
         lanes: [LaneLocals<'_>; L],
@@ -828,33 +831,25 @@ impl super::Tape {
         d: &mut [[f64; L]],
         hes: [&mut [f64]; L],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the processor has AVX2 (checked just above).
-            return unsafe { self.sparse_hessian_avx2(lanes, g, d, hes) };
+        with_wide_vectors(|| self.sparse_hessian(lanes, g, d, hes))
+    }
+}
+
+/// Runs `f` compiled a second time for 256-bit vectors (AVX2) when the processor has them
+/// (chosen at run time; a batch entry of 4 `f64` lanes is one AVX2 register where the
+/// baseline x86-64 build needs two SSE2 operations), else as built. Same operations in
+/// the same order, no fused multiply-add: the numbers are identical. `f` inlines the
+/// `#[inline(always)]` sweeps, so they are compiled inside the AVX2 function.
+#[inline(always)]
+fn with_wide_vectors<R>(f: impl FnOnce() -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        unsafe fn avx2<R>(f: impl FnOnce() -> R) -> R {
+            f()
         }
-        self.sparse_hessian(lanes, g, d, hes)
+        // SAFETY: the processor has AVX2 (checked just above).
+        return unsafe { avx2(f) };
     }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn sparse_forward_avx2<const L: usize>(
-        &self,
-        part: [&[[f64; 2]]; L],
-        g: &mut [[f64; L]],
-    ) {
-        self.sparse_forward(part, g)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn sparse_hessian_avx2<const L: usize>(
-        &self,
-        lanes: [LaneLocals<'_>; L],
-        g: &[[f64; L]],
-        d: &mut [[f64; L]],
-        hes: [&mut [f64]; L],
-    ) {
-        self.sparse_hessian(lanes, g, d, hes)
-    }
+    f()
 }

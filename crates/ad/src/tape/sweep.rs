@@ -73,6 +73,22 @@ impl Tape {
                     }
                 }};
             }
+            // A function of one operand, `f` its `[value, first, second]` derivatives at
+            // `x`: the value alone without partials.
+            macro_rules! unary {
+                ($a:expr, |$x:ident| $value:expr, $f:expr) => {{
+                    let va = v!($a);
+                    for l in 0..L {
+                        let $x = va[l];
+                        if ORD == 0 {
+                            put!(l, $value, Z2, Z3);
+                        } else {
+                            let f: [f64; 3] = $f;
+                            put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
+                        }
+                    }
+                }};
+            }
             match *op {
                 Op::Input(i) => {
                     for l in 0..L {
@@ -150,46 +166,12 @@ impl Tape {
                         }
                     }
                 }
-                Op::Unary(a, e) => {
-                    let va = v!(a);
-                    for l in 0..L {
-                        if ORD == 0 {
-                            put!(l, e.value(va[l]), Z2, Z3);
-                        } else {
-                            let f = e.eval3(va[l]);
-                            put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
-                        }
-                    }
-                }
-                Op::Powf(a, pw) => {
-                    let va = v!(a);
-                    for l in 0..L {
-                        if ORD == 0 {
-                            put!(l, va[l].powf(pw), Z2, Z3);
-                        } else {
-                            let f = powf3(va[l], pw);
-                            put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
-                        }
-                    }
-                }
-                Op::Powi(a, n) => {
-                    let va = v!(a);
-                    for l in 0..L {
-                        if ORD == 0 {
-                            put!(l, va[l].powi(n), Z2, Z3);
-                        } else {
-                            let f = powi3(va[l], n);
-                            put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
-                        }
-                    }
-                }
+                Op::Unary(a, e) => unary!(a, |x| e.value(x), e.eval3(x)),
+                Op::Powf(a, pw) => unary!(a, |x| x.powf(pw), powf3(x, pw)),
+                Op::Powi(a, n) => unary!(a, |x| x.powi(n), powi3(x, n)),
                 Op::Apply(a, i) => {
-                    let va = v!(a);
                     let func = &self.fns[i as usize];
-                    for l in 0..L {
-                        let f = func.eval(va[l]);
-                        put!(l, f[0], [f[1], 0.0], [f[2], 0.0, 0.0]);
-                    }
+                    unary!(a, |x| func.eval(x)[0], func.eval(x))
                 }
                 Op::Min(a, b) => {
                     let (va, vb) = (v!(a), v!(b));
