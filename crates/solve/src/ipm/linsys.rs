@@ -44,6 +44,18 @@ pub struct Inertia {
     pub zero: usize,
 }
 
+impl Inertia {
+    /// The inertia reported for a failed factorisation of a `dim`-row matrix: every pivot
+    /// zero (singular).
+    pub fn singular(dim: usize) -> Self {
+        Inertia {
+            positive: 0,
+            negative: 0,
+            zero: dim,
+        }
+    }
+}
+
 /// A sparse symmetric linear solver for the KKT system (lower triangle, CSC).
 pub trait KktSolver: Send {
     /// Short name for logs and benchmarks.
@@ -284,28 +296,11 @@ impl KktSolver for FaerLdlt {
             stack,
             Spec::<LdltParams, f64>::default(),
         );
-        match res {
-            Ok(_) => {
-                self.factored = true;
-                let Some(inertia) = self.inertia_of_d() else {
-                    self.factored = false;
-                    return Ok(Inertia {
-                        positive: 0,
-                        negative: 0,
-                        zero: self.dim,
-                    });
-                };
-                Ok(inertia)
-            }
-            Err(_) => {
-                self.factored = false;
-                Ok(Inertia {
-                    positive: 0,
-                    negative: 0,
-                    zero: self.dim,
-                })
-            }
-        }
+        // a failed factorisation or a non-finite pivot: singular, no solves
+        let done = res.is_ok();
+        let inertia = if done { self.inertia_of_d() } else { None };
+        self.factored = inertia.is_some();
+        Ok(inertia.unwrap_or(Inertia::singular(self.dim)))
     }
 
     fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearSolverError> {
@@ -515,11 +510,7 @@ impl KktSolver for FaerLblt {
             && self.subdiag.iter().all(|v| v.is_finite());
         if !finite {
             self.factored = false;
-            return Ok(Inertia {
-                positive: 0,
-                negative: 0,
-                zero: self.dim,
-            });
+            return Ok(Inertia::singular(self.dim));
         }
         self.factored = true;
         Ok(self.inertia_of_b())
