@@ -282,6 +282,15 @@ pub struct ContactParameters {
     pub hertz_smoothing: f64,
     /// Steepness of the Hunt–Crossley smoothing b_v [s m⁻¹].
     pub hunt_crossley_smoothing: f64,
+    /// Half-width ε of a smooth transition of min(v_slip / v_t, 1) in the friction law
+    /// (dimensionless, a fraction of v_t); 0 (the default, absent from model files) keeps
+    /// OpenSim's exact minimum, which has a kink at v_slip = v_t.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub friction_transition_smoothing: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Default for ContactParameters {
@@ -297,6 +306,7 @@ impl Default for ContactParameters {
             constant_contact_force: 1.0e-5,
             hertz_smoothing: 300.0,
             hunt_crossley_smoothing: 50.0,
+            friction_transition_smoothing: 0.0,
         }
     }
 }

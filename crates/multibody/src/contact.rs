@@ -54,13 +54,29 @@ pub fn normal_force<T: Scalar>(p: &ContactParameters, radius: f64, delta: T, del
     )
 }
 
-/// Friction coefficient μ(v_slip) (step 8) for the smoothed slip speed [m s⁻¹].
+/// Friction coefficient μ(v_slip) (step 8) for the smoothed slip speed [m s⁻¹]. The factor
+/// min(v_rel, 1) is exact when `friction_transition_smoothing` is 0 (a kink at v_t), else
+/// [`smooth_min_one`] with that half-width.
 #[inline]
 pub fn friction_coefficient<T: Scalar>(p: &ContactParameters, v_slip: T) -> T {
     let v_rel = v_slip / p.transition_velocity;
     let stribeck = (v_rel * v_rel + 1.0).rdiv(2.0 * (p.static_friction - p.dynamic_friction))
         + p.dynamic_friction;
-    v_rel.fmin(T::one()) * stribeck + v_slip * p.viscous_friction
+    let capped = if p.friction_transition_smoothing > 0.0 {
+        smooth_min_one(v_rel, p.friction_transition_smoothing)
+    } else {
+        v_rel.fmin(T::one())
+    };
+    capped * stribeck + v_slip * p.viscous_friction
+}
+
+/// Smooth lower bound of min(x, 1) with half-width `eps` (dimensionless):
+/// ½ (x + 1 − √((x − 1)² + ε²)). Infinitely differentiable, below min(x, 1) by at most
+/// ε/2 (at x = 1) and by about ε² / (4 |x − 1|) away from the kink.
+#[inline]
+pub fn smooth_min_one<T: Scalar>(x: T, eps: f64) -> T {
+    let d = x - 1.0;
+    (x + 1.0 - (d * d + eps * eps).sqrt()) * 0.5
 }
 
 /// Contact of one sphere with centre `center` (ground) on a body with origin `origin`,

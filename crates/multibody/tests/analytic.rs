@@ -182,6 +182,46 @@ fn friction_opposes_sliding() {
 }
 
 #[test]
+fn friction_transition_smoothing_removes_the_kink_and_stays_close() {
+    let exact = ContactParameters::default();
+    let eps = 0.01;
+    let smooth = ContactParameters {
+        friction_transition_smoothing: eps,
+        ..exact
+    };
+    let mu = |p: &ContactParameters, v: f64| -> f64 { friction_coefficient(p, v) };
+    // Analytic bounds (μ_s = μ_d = 0.8, v_t = 0.2): the smoothed law lies below the exact one,
+    // by 0.8 ε/2 at the kink and by about 0.8 ε² / (4 |v_rel − 1|) away from it.
+    for &v in &[0.003, 0.05, 0.15, 0.19, 0.2, 0.21, 0.3, 1.0, 3.0] {
+        let gap = mu(&exact, v) - mu(&smooth, v);
+        let d = (v / 0.2 - 1.0f64).abs();
+        let bound = 0.8 * 0.5 * ((d * d + eps * eps).sqrt() - d);
+        assert!(
+            gap >= 0.0 && (gap - bound).abs() < 1e-14,
+            "v = {v}: {gap} vs {bound}"
+        );
+        assert!(gap <= 0.8 * eps / 2.0 + 1e-15);
+    }
+    // The exact law's slope jumps at v_t (0.8/0.2 + 0.5 below, 0.5 above); the smoothed
+    // law's one-sided slopes agree there and its slope is the mean of the two.
+    let h = 1e-7;
+    let slope = |p: &ContactParameters, a: f64, b: f64| (mu(p, b) - mu(p, a)) / (b - a);
+    let (below, above) = (slope(&exact, 0.2 - h, 0.2), slope(&exact, 0.2, 0.2 + h));
+    assert!((below - 4.5).abs() < 1e-6 && (above - 0.5).abs() < 1e-6);
+    let (below, above) = (slope(&smooth, 0.2 - h, 0.2), slope(&smooth, 0.2, 0.2 + h));
+    assert!((below - above).abs() < 1e-3, "{below} vs {above}");
+    assert!((below - 2.5).abs() < 1e-3, "{below}");
+    // 0 reproduces the exact minimum bit for bit.
+    let zero = ContactParameters {
+        friction_transition_smoothing: 0.0,
+        ..exact
+    };
+    for &v in &[0.1, 0.2, 0.25] {
+        assert_eq!(mu(&zero, v), mu(&exact, v));
+    }
+}
+
+#[test]
 fn inclined_plane_uses_its_normal() {
     let p = ContactParameters::default();
     let s = std::f64::consts::FRAC_1_SQRT_2;

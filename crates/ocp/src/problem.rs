@@ -188,6 +188,9 @@ impl GaitProblem {
         for m in &mut model.muscles {
             m.max_contraction_velocity = settings.max_contraction_velocity;
         }
+        for c in &mut model.contacts {
+            c.parameters.friction_transition_smoothing = settings.contact_friction_smoothing;
+        }
         for change in &settings.strength {
             let mut names: Vec<String> = change.muscles.clone();
             if let Some(g) = &change.group {
@@ -334,6 +337,32 @@ mod tests {
         all.sort();
         all.dedup();
         assert_eq!(all.len(), 27, "no duplicates");
+    }
+
+    #[test]
+    fn contact_friction_smoothing_reaches_every_sphere() {
+        let model = stride_model::default_model::default_model();
+        assert!(model
+            .contacts
+            .iter()
+            .all(|c| c.parameters.friction_transition_smoothing == 0.0));
+        for eps in [crate::settings::CONTACT_FRICTION_SMOOTHING, 0.0, 0.2] {
+            let settings = ProblemSettings {
+                mesh_intervals: 4,
+                contact_friction_smoothing: eps,
+                ..Default::default()
+            };
+            let p = GaitProblem::new(&model, &settings, &crate::predict::bounds_data(&settings))
+                .unwrap();
+            assert_eq!(p.model.contacts.len(), 12);
+            for c in &p.model.contacts {
+                assert_eq!(
+                    c.parameters.friction_transition_smoothing, eps,
+                    "{}",
+                    c.name
+                );
+            }
+        }
     }
 
     #[test]

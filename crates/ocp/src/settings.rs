@@ -27,6 +27,10 @@ pub struct ProblemSettings {
     pub max_contraction_velocity: f64,
     /// Tendon stiffness k_T of the normalised tendon force–length curve (35 nominal).
     pub tendon_stiffness: f64,
+    /// Half-width of the smooth transition of min(v_slip / v_t, 1) in every contact
+    /// sphere's friction law, as a fraction of the transition velocity v_t (0.01: ±2 mm/s
+    /// around 0.2 m/s; 0: the reference's exact minimum, whose kink can stall Newton steps).
+    pub contact_friction_smoothing: f64,
     /// Maximal isometric force changes (weakness) applied before solving.
     pub strength: Vec<StrengthChange>,
     /// Bounds of the half-cycle (or cycle) duration [s]; default [0.1, 1] (half cycle).
@@ -41,6 +45,10 @@ pub struct ProblemSettings {
     /// `cycle = "full-periodic"`.
     pub prosthesis: Option<Prosthesis>,
 }
+
+/// Default half-width of the friction law's smoothed transition at v_slip = v_t (a
+/// fraction of v_t; decision 0004).
+pub const CONTACT_FRICTION_SMOOTHING: f64 = 0.01;
 
 /// Right-leg passive transtibial prosthesis: ankle and subtalar muscles removed, passive
 /// ankle and subtalar torques T = −k q, lighter shank and foot (FORMULATION 12.1).
@@ -133,6 +141,7 @@ impl Default for ProblemSettings {
             activation_min: 0.05,
             max_contraction_velocity: 10.0,
             tendon_stiffness: 35.0,
+            contact_friction_smoothing: CONTACT_FRICTION_SMOOTHING,
             strength: Vec::new(),
             duration_bounds: None,
             coordinate_bounds: Vec::new(),
@@ -304,6 +313,12 @@ impl ProblemSettings {
             self.tendon_stiffness,
             "must be positive",
         )?;
+        check(
+            (0.0..=0.5).contains(&self.contact_friction_smoothing),
+            "contact_friction_smoothing",
+            self.contact_friction_smoothing,
+            "must lie in [0, 0.5] (a fraction of the transition velocity)",
+        )?;
         let w = &self.weights;
         for (k, v) in [
             ("weights.metabolic", w.metabolic),
@@ -430,6 +445,12 @@ mod tests {
         let s: ProblemSettings =
             toml::from_str("[[strength]]\ngroup = \"knee\"\nscale = 0.5").unwrap();
         assert_eq!(s.validate().unwrap_err().key, "strength[0].group");
+        for v in ["-0.01", "0.6", "nan"] {
+            let s: ProblemSettings =
+                toml::from_str(&format!("contact_friction_smoothing = {v}")).unwrap();
+            let e = s.validate().unwrap_err();
+            assert_eq!(e.key, "contact_friction_smoothing", "{v}");
+        }
     }
 
     #[test]

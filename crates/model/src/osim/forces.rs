@@ -336,6 +336,7 @@ fn contact<'g>(
             "hunt_crossley_smoothing",
             d.hunt_crossley_smoothing,
         )?,
+        ..d
     };
     Ok(ContactSphere {
         name: name_of(f).to_string(),
