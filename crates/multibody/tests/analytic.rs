@@ -211,13 +211,10 @@ fn friction_transition_smoothing_removes_the_kink_and_stays_close() {
     let (below, above) = (slope(&smooth, 0.2 - h, 0.2), slope(&smooth, 0.2, 0.2 + h));
     assert!((below - above).abs() < 1e-3, "{below} vs {above}");
     assert!((below - 2.5).abs() < 1e-3, "{below}");
-    // 0 reproduces the exact minimum bit for bit.
-    let zero = ContactParameters {
-        friction_transition_smoothing: 0.0,
-        ..exact
-    };
-    for &v in &[0.1, 0.2, 0.25] {
-        assert_eq!(mu(&zero, v), mu(&exact, v));
+    // 0 (the model default) is the reference's law 0.8 min(v/0.2, 1) + 0.5 v, also at the kink.
+    for &v in &[0.1, 0.2 - 1e-9, 0.2, 0.2 + 1e-9, 0.25] {
+        let reference = 0.8 * (v / 0.2f64).min(1.0) + 0.5 * v;
+        assert!((mu(&exact, v) - reference).abs() < 1e-15, "v = {v}");
     }
 }
 
