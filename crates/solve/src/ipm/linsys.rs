@@ -297,8 +297,11 @@ impl KktSolver for FaerLdlt {
             Spec::<LdltParams, f64>::default(),
         );
         // a failed factorisation or a non-finite pivot: singular, no solves
-        let done = res.is_ok();
-        let inertia = if done { self.inertia_of_d() } else { None };
+        let inertia = if res.is_ok() {
+            self.inertia_of_d()
+        } else {
+            None
+        };
         self.factored = inertia.is_some();
         Ok(inertia.unwrap_or(Inertia::singular(self.dim)))
     }
@@ -508,12 +511,12 @@ impl KktSolver for FaerLblt {
         );
         let finite = self.l_values.iter().all(|v| v.is_finite())
             && self.subdiag.iter().all(|v| v.is_finite());
-        if !finite {
-            self.factored = false;
-            return Ok(Inertia::singular(self.dim));
-        }
-        self.factored = true;
-        Ok(self.inertia_of_b())
+        self.factored = finite;
+        Ok(if finite {
+            self.inertia_of_b()
+        } else {
+            Inertia::singular(self.dim)
+        })
     }
 
     fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearSolverError> {
