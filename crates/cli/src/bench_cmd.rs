@@ -105,6 +105,10 @@ pub struct PredictArgs {
     /// Wall-time limit per solve [s] (default: none).
     #[arg(long)]
     pub time_limit: Option<f64>,
+    /// Coarse mesh of the presolve (as `stride predict --presolve-mesh`; default 10 below
+    /// finer meshes, 0: none).
+    #[arg(long)]
+    pub presolve_mesh: Option<usize>,
 }
 
 /// Arguments of the hidden `stride bench predict-one`.
@@ -128,6 +132,9 @@ pub struct PredictOneArgs {
     /// Wall-time limit [s].
     #[arg(long)]
     pub time_limit: Option<f64>,
+    /// Coarse mesh of the presolve.
+    #[arg(long)]
+    pub presolve_mesh: Option<usize>,
 }
 
 /// Measurements of one prediction case (the JSON line of `stride bench predict-one`).
@@ -155,6 +162,10 @@ pub struct CaseReport {
     pub time_solves_s: Option<f64>,
     /// Resident-set high-water mark of the process [KiB] (None: not on Linux).
     pub peak_rss_kib: Option<u64>,
+    /// Coarse solve before the solve above: mesh intervals, iterations and wall time [s]
+    /// (None: no presolve).
+    #[serde(default)]
+    pub presolve: Option<(usize, usize, f64)>,
 }
 
 /// Run `stride bench ...`.
@@ -271,7 +282,7 @@ struct Case {
 }
 
 fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
-    nominal_settings(a.mesh)?;
+    let presolve = predict::presolve_for(a.presolve_mesh, &nominal_settings(a.mesh)?)?;
     for h in &a.hessian {
         predict_cmd::parse_hessian(Some(h), "ipm")?;
     }
@@ -308,17 +319,21 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
     }
     let exe = std::env::current_exe().context("locating the stride executable")?;
     println!(
-        "## Nominal prediction (1.33 m/s, {} mesh intervals, tol 1e-4, adaptive μ, max {} iterations, {}); \
+        "## Nominal prediction (1.33 m/s, {} mesh intervals, {}, tol 1e-4, adaptive μ, max {} iterations, {}); \
          one child process per case, one thread (evaluations and linear algebra)\n",
         a.mesh,
+        presolve.map_or("no presolve".into(), |p| format!(
+            "presolved on {} intervals (process s includes it)",
+            p.mesh_intervals
+        )),
         a.max_iter,
         a.time_limit
             .map_or("no time limit".into(), |t| format!("{t} s limit"))
     );
     println!(
-        "| backend | Hessian | guess | status | iterations | objective | process s | solve s | evaluations s | solver s | of which linear s | factorisations s | solves s | peak RSS MiB |"
+        "| backend | Hessian | guess | presolve iterations / s | status | iterations | objective | process s | solve s | evaluations s | solver s | of which linear s | factorisations s | solves s | peak RSS MiB |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     std::io::stdout().flush()?;
     for c in &cases {
         let mut cmd = Command::new(&exe);
@@ -328,6 +343,10 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
         if let Some(t) = a.time_limit {
             cmd.args(["--time-limit", &t.to_string()]);
         }
+        cmd.args([
+            "--presolve-mesh",
+            &presolve.map_or(0, |p| p.mesh_intervals).to_string(),
+        ]);
         let t = Instant::now();
         let out = cmd
             .stdin(Stdio::null())
@@ -345,7 +364,9 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
             Some(r) if out.status.success() => {
                 let f2 = |v: f64| format!("{v:.2}");
                 println!(
-                    "{lead} {} | {} | {:.6} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                    "{lead} {} | {} | {} | {:.6} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                    r.presolve
+                        .map_or("none".into(), |(_, it, s)| format!("{it} / {s:.2}")),
                     r.status,
                     r.iterations,
                     r.objective,
@@ -369,7 +390,7 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
                     .unwrap_or("no output")
                     .replace('|', "/");
                 println!(
-                    "{lead} failed ({}): {why} | | | {process_s:.2} | | | | | | | |",
+                    "{lead} | failed ({}): {why} | | | {process_s:.2} | | | | | | | |",
                     out.status
                 );
             }
@@ -399,10 +420,12 @@ fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
     let options =
         predict_cmd::prediction_options(None, Some(a.max_iter), hessian, a.time_limit, None)?;
     let model = stride_model::default_model::default_model();
+    let presolve = predict::presolve_for(a.presolve_mesh, &settings)?;
     let (_, solved) = predict::solve_guesses(
         &model,
         &settings,
         &[guess],
+        presolve,
         solver.as_ref(),
         &options,
         &|_, _| {},
@@ -420,6 +443,11 @@ fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
         time_factorisation_s: s.report.time_factorisation_s,
         time_solves_s: s.report.time_solves_s,
         peak_rss_kib: peak_rss_kib(),
+        presolve: s
+            .report
+            .presolve
+            .as_ref()
+            .map(|p| (p.mesh_intervals, p.iterations, p.time_total_s)),
     };
     println!("{}", serde_json::to_string(&report)?);
     Ok(())

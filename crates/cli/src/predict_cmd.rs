@@ -50,6 +50,11 @@ pub struct PredictArgs {
     /// else 0).
     #[arg(long)]
     pub correctors: Option<usize>,
+    /// Coarse mesh of the presolve: each guess is first solved on this many intervals and
+    /// the requested mesh is solved from that optimum (default 10 when the mesh is finer;
+    /// 0: solve the requested mesh directly from the guess).
+    #[arg(long)]
+    pub presolve_mesh: Option<usize>,
     /// Output folder.
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -68,6 +73,7 @@ struct SolverSection {
     max_iter: Option<usize>,
     time_limit: Option<f64>,
     centrality_correctors: Option<usize>,
+    presolve_mesh: Option<usize>,
 }
 
 /// A study file for one prediction.
@@ -247,6 +253,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         args.correctors.or(s.centrality_correctors),
     )?;
     check_correctors(&options, &backend_name)?;
+    let presolve = predict::presolve_for(args.presolve_mesh.or(s.presolve_mesh), &settings)?;
     // the guesses are solved at the same time: the cores are shared out between them
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     options.threads = (cores / guesses.len()).max(1);
@@ -283,6 +290,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         &model,
         &settings,
         &guesses,
+        presolve,
         solver.as_ref(),
         &options,
         &progress,
@@ -303,6 +311,18 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
             g.time_total_s,
             g.time_evaluations_s
         );
+        if let Some(p) = &g.presolve {
+            println!(
+                "{:<22} presolve on {} intervals: {} after {} iterations, objective {:.6}, {:.1} s{}",
+                "",
+                p.mesh_intervals,
+                p.status,
+                p.iterations,
+                p.objective,
+                p.time_total_s,
+                if p.used { "" } else { " (not used: solved from the guess)" }
+            );
+        }
     }
     match (&summary.kept_guess, &summary.outcomes) {
         (Some(k), Some(o)) => println!(

@@ -86,7 +86,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     };
     predict_cmd::check_correctors(&options, backend_name).with_context(section)?;
     let model = study_model(h.model.as_deref())?;
-    check_cases(&model, &study.cases)
+    check_cases(&model, &study.cases, s.presolve_mesh)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
     let only = if args.only.is_empty() {
         None
@@ -123,6 +123,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         solver,
         options,
         write_unconverged: h.continue_from_unconverged,
+        presolve_mesh: s.presolve_mesh,
     };
     let summary = run_study(
         &study,

@@ -75,6 +75,14 @@ fn bench_rejects_bad_arguments_with_one_line() {
         &["bench", "predict", "--guess", "standing"],
         "unknown initial guess `standing`",
     );
+    rejects(
+        &["bench", "predict", "--presolve-mesh", "50"],
+        "presolve_mesh 50: the coarse mesh must have fewer intervals than the mesh (50)",
+    );
+    rejects(
+        &["bench", "predict", "--presolve-mesh", "1"],
+        "presolve_mesh 1",
+    );
     if !cfg!(feature = "ipopt") {
         rejects(
             &["bench", "solver", "--backend", "ipopt"],

@@ -373,6 +373,14 @@ pub enum ContinuationError {
         /// (N, muscles, coordinates, arms) of the problem.
         target: [usize; 4],
     },
+    /// The source solves another cycle (half with symmetry vs full with periodicity).
+    #[error("source solution covers {from} gait cycle, the problem {target}")]
+    Cycle {
+        /// "a half" or "a full" (source).
+        from: &'static str,
+        /// "a half" or "a full" (problem).
+        target: &'static str,
+    },
     /// The source vector has the wrong length.
     #[error("source solution has {got} variables, its layout needs {expected}")]
     Length {
@@ -390,19 +398,132 @@ fn layout_dims(l: &Layout) -> [usize; 4] {
     [l.n, l.nm, l.nq, l.na]
 }
 
+/// Linear interpolation of samples `(t, y)` (times non-decreasing) at `t`, constant
+/// beyond the first and last sample; at a repeated time the later sample wins.
+fn interpolate(samples: &[(f64, f64)], t: f64) -> f64 {
+    let i = samples.partition_point(|&(ts, _)| ts <= t);
+    if i == 0 {
+        return samples[0].1;
+    }
+    if i == samples.len() {
+        return samples[i - 1].1;
+    }
+    let ((t0, y0), (t1, y1)) = (samples[i - 1], samples[i]);
+    if t1 > t0 {
+        y0 + (y1 - y0) * (t - t0) / (t1 - t0)
+    } else {
+        y1
+    }
+}
+
+/// Time of point `p` as a fraction of the duration (0 at mesh point 0, 1 at mesh point N).
+fn point_time(l: &Layout, p: Point) -> f64 {
+    let tau = crate::radau::points();
+    match p {
+        Point::Mesh(k) => k as f64 / l.n as f64,
+        Point::Col(k, j) => (k as f64 + tau[j]) / l.n as f64,
+    }
+}
+
+/// Every state point of `l` in time order: per interval its mesh point and its three
+/// collocation points, then the final mesh point.
+fn state_points(l: &Layout) -> Vec<Point> {
+    let mut pts = Vec::with_capacity(4 * l.n + 1);
+    for k in 0..l.n {
+        pts.push(Point::Mesh(k));
+        pts.extend((1..=3).map(|j| Point::Col(k, j)));
+    }
+    pts.push(Point::Mesh(l.n));
+    pts
+}
+
+/// The NLP vector `x` of layout `from` carried to layout `to` (same muscles, coordinates
+/// and arm actuators, any number of mesh intervals) in normalised time: states linearly
+/// between the source's mesh and collocation points (the final mesh point copied, so a
+/// symmetric half cycle stays closed), collocation-point controls linearly between the
+/// source's collocation points, interval controls from the source interval holding the
+/// target interval's midpoint, t_f unchanged. Linear interpolation keeps every value
+/// within the bounds its samples satisfy.
+pub fn resample_solution(from: &Layout, x: &[f64], to: &Layout) -> Vec<f64> {
+    let mut out = vec![0.0; to.len()];
+    out[to.tf()] = x[from.tf()];
+    let (src_pts, dst_pts) = (state_points(from), state_points(to));
+    let src_times: Vec<f64> = src_pts.iter().map(|&p| point_time(from, p)).collect();
+    let mut samples = Vec::with_capacity(src_pts.len());
+    for s in 0..from.n_states() {
+        samples.clear();
+        samples.extend(
+            src_pts
+                .iter()
+                .zip(&src_times)
+                .map(|(&p, &t)| (t, x[from.state(p, s)])),
+        );
+        for &p in &dst_pts {
+            out[to.state(p, s)] = match p {
+                Point::Mesh(k) if k == to.n => x[from.state(Point::Mesh(from.n), s)],
+                _ => interpolate(&samples, point_time(to, p)),
+            };
+        }
+    }
+    let cols = |l: &Layout| -> Vec<(usize, usize, f64)> {
+        (0..l.n)
+            .flat_map(|k| (1..=3).map(move |j| (k, j)))
+            .map(|(k, j)| (k, j, point_time(l, Point::Col(k, j))))
+            .collect()
+    };
+    let (src_cols, dst_cols) = (cols(from), cols(to));
+    type ColIndex = fn(&Layout, usize, usize, usize) -> usize;
+    let per_col: [(usize, ColIndex); 2] = [(from.nm, Layout::u_df), (from.nq, Layout::u_dv)];
+    for (width, index) in per_col {
+        for i in 0..width {
+            samples.clear();
+            samples.extend(
+                src_cols
+                    .iter()
+                    .map(|&(k, j, t)| (t, x[index(from, k, j, i)])),
+            );
+            for &(k, j, t) in &dst_cols {
+                out[index(to, k, j, i)] = interpolate(&samples, t);
+            }
+        }
+    }
+    type IntervalIndex = fn(&Layout, usize, usize) -> usize;
+    let per_interval: [(usize, IntervalIndex); 2] =
+        [(from.nm, Layout::u_da), (from.na, Layout::e_arm)];
+    for k in 0..to.n {
+        let mid = (k as f64 + 0.5) / to.n as f64;
+        let ks = ((mid * from.n as f64) as usize).min(from.n - 1);
+        for (width, index) in per_interval {
+            for i in 0..width {
+                out[index(to, k, i)] = x[index(from, ks, i)];
+            }
+        }
+    }
+    out
+}
+
 impl crate::problem::GaitProblem {
-    /// Full-OS guess: the solution `x` of `source` (same layout), with positions, speeds and
-    /// accelerations unscaled by the source's scale factors and rescaled by this problem's.
+    /// Full-OS guess: the solution `x` of `source` (same muscles, coordinates and arm
+    /// actuators; another mesh is resampled by [`resample_solution`]), with positions,
+    /// speeds and accelerations unscaled by the source's scale factors and rescaled by this
+    /// problem's.
     pub fn guess_from_full_solution(
         &self,
         source: &crate::problem::GaitProblem,
         x: &[f64],
     ) -> Result<Vec<f64>, ContinuationError> {
         let (l, ls) = (&self.layout, &source.layout);
-        if layout_dims(l) != layout_dims(ls) {
+        if layout_dims(l)[1..] != layout_dims(ls)[1..] {
             return Err(ContinuationError::Layout {
                 from: layout_dims(ls),
                 target: layout_dims(l),
+            });
+        }
+        if self.is_half_cycle() != source.is_half_cycle() {
+            let name = |half: bool| if half { "a half" } else { "a full" };
+            return Err(ContinuationError::Cycle {
+                from: name(source.is_half_cycle()),
+                target: name(self.is_half_cycle()),
             });
         }
         if x.len() != ls.len() {
@@ -412,6 +533,12 @@ impl crate::problem::GaitProblem {
             });
         }
         let (s, so) = (&self.scaling, &source.scaling);
+        let x = if l.n == ls.n {
+            x.to_vec()
+        } else {
+            resample_solution(ls, x, l)
+        };
+        let x = &x;
         let mut out = x.to_vec();
         let mut points: Vec<Point> = (0..=l.n).map(Point::Mesh).collect();
         for k in 0..l.n {
@@ -421,14 +548,14 @@ impl crate::problem::GaitProblem {
         }
         for &p in &points {
             for i in 0..l.nq {
-                out[l.q(p, i)] = x[ls.q(p, i)] * so.q[i] / s.q[i];
-                out[l.v(p, i)] = x[ls.v(p, i)] * so.v[i] / s.v[i];
+                out[l.q(p, i)] = x[l.q(p, i)] * so.q[i] / s.q[i];
+                out[l.v(p, i)] = x[l.v(p, i)] * so.v[i] / s.v[i];
             }
         }
         for k in 0..l.n {
             for j in 1..=3 {
                 for i in 0..l.nq {
-                    out[l.u_dv(k, j, i)] = x[ls.u_dv(k, j, i)] * so.a[i] / s.a[i];
+                    out[l.u_dv(k, j, i)] = x[l.u_dv(k, j, i)] * so.a[i] / s.a[i];
                 }
             }
         }
@@ -534,11 +661,7 @@ mod continuation_tests {
         assert_eq!(y[l.tf()], x[l.tf()]);
         let short = &x[..x.len() - 1];
         assert!(b.guess_from_full_solution(&a, short).is_err());
-        let c = {
-            let s = ProblemSettings {
-                mesh_intervals: 12,
-                ..Default::default()
-            };
+        let with = |s: ProblemSettings| {
             GaitProblem::new(
                 &stride_model::default_model::default_model(),
                 &s,
@@ -546,10 +669,121 @@ mod continuation_tests {
             )
             .unwrap()
         };
-        assert!(matches!(
-            c.guess_from_full_solution(&a, &x),
-            Err(ContinuationError::Layout { .. })
-        ));
+        // another mesh is resampled; another cycle is refused
+        let c = with(ProblemSettings {
+            mesh_intervals: 12,
+            ..Default::default()
+        });
+        assert_eq!(
+            c.guess_from_full_solution(&a, &x).unwrap().len(),
+            c.layout.len()
+        );
+        let full = with(ProblemSettings {
+            mesh_intervals: 10,
+            cycle: crate::settings::CycleKind::FullPeriodic,
+            ..Default::default()
+        });
+        let e = full.guess_from_full_solution(&a, &x).unwrap_err();
+        assert!(matches!(e, ContinuationError::Cycle { .. }), "{e}");
+        assert!(e.to_string().contains("half"), "{e}");
+    }
+
+    /// A vector whose every variable is an affine function of normalised time (states at
+    /// their points, collocation controls at their points, interval controls constant per
+    /// interval of the source) on layout `l`.
+    fn affine_in_time(l: &Layout) -> Vec<f64> {
+        let mut x = vec![0.0; l.len()];
+        x[l.tf()] = 0.55;
+        let value = |kind: usize, i: usize, t: f64| {
+            0.1 * (kind + 1) as f64 + 1e-3 * i as f64 + (0.5 - 0.01 * i as f64) * t
+        };
+        for p in state_points(l) {
+            for s in 0..l.n_states() {
+                x[l.state(p, s)] = value(0, s, point_time(l, p));
+            }
+        }
+        for k in 0..l.n {
+            for j in 1..=3 {
+                let t = point_time(l, Point::Col(k, j));
+                for m in 0..l.nm {
+                    x[l.u_df(k, j, m)] = value(1, m, t);
+                }
+                for i in 0..l.nq {
+                    x[l.u_dv(k, j, i)] = value(2, i, t);
+                }
+            }
+            for m in 0..l.nm {
+                x[l.u_da(k, m)] = value(3, m, k as f64);
+            }
+            for i in 0..l.na {
+                x[l.e_arm(k, i)] = value(4, i, k as f64);
+            }
+        }
+        x
+    }
+
+    #[test]
+    fn resampling_reproduces_affine_trajectories_on_another_mesh() {
+        let (from, to) = (Layout::new(10, 3, 4, 2), Layout::new(25, 3, 4, 2));
+        let x = affine_in_time(&from);
+        let y = resample_solution(&from, &x, &to);
+        assert_eq!(y.len(), to.len());
+        assert_eq!(y[to.tf()], 0.55);
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        let expect = affine_in_time(&to);
+        // states: exact at every point (linear interpolation of an affine function)
+        for p in state_points(&to) {
+            for s in 0..to.n_states() {
+                assert!(
+                    close(y[to.state(p, s)], expect[to.state(p, s)]),
+                    "{p:?} state {s}"
+                );
+            }
+        }
+        // collocation controls: exact between the source's first and last collocation
+        // points, constant (the end sample) outside
+        let tau = crate::radau::points();
+        let (first, last) = (tau[1] / 10.0, 1.0);
+        for k in 0..to.n {
+            for j in 1..=3 {
+                let t = point_time(&to, Point::Col(k, j));
+                let at = t.clamp(first, last);
+                for i in 0..to.nq {
+                    let want = 0.1 * 3.0 + 1e-3 * i as f64 + (0.5 - 0.01 * i as f64) * at;
+                    assert!(
+                        close(y[to.u_dv(k, j, i)], want),
+                        "u_dv ({k},{j}) {i} at {t}"
+                    );
+                }
+            }
+            // interval controls from the source interval holding the target midpoint
+            let ks = (((k as f64 + 0.5) / 25.0) * 10.0) as usize;
+            for m in 0..to.nm {
+                assert_eq!(y[to.u_da(k, m)], x[from.u_da(ks, m)]);
+            }
+            for i in 0..to.na {
+                assert_eq!(y[to.e_arm(k, i)], x[from.e_arm(ks, i)]);
+            }
+        }
+        // a coarser target too, and the round trip to the same mesh keeps the states
+        let back = resample_solution(&to, &y, &from);
+        for p in state_points(&from) {
+            for s in 0..from.n_states() {
+                assert!(close(back[from.state(p, s)], x[from.state(p, s)]));
+            }
+        }
+    }
+
+    #[test]
+    fn resampling_keeps_values_within_the_range_of_their_samples() {
+        // linear interpolation is a convex combination: a bound met by every source value
+        // is met by every resampled value
+        let (from, to) = (Layout::new(7, 2, 3, 1), Layout::new(30, 2, 3, 1));
+        let x: Vec<f64> = (0..from.len())
+            .map(|i| ((i * 7919) % 101) as f64 / 100.0)
+            .collect();
+        let y = resample_solution(&from, &x, &to);
+        assert!(y.iter().all(|&v| (0.0..=1.0).contains(&v)));
     }
 
     #[test]

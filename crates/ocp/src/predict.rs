@@ -29,6 +29,9 @@ pub enum PredictError {
     /// A guess could not be built.
     #[error(transparent)]
     Guess(#[from] crate::guess::GuessError),
+    /// An impossible presolve mesh.
+    #[error("presolve_mesh {0}")]
+    Presolve(String),
     /// The solver refused the problem.
     #[error("solver: {0}")]
     Solver(String),
@@ -83,6 +86,9 @@ pub struct GuessReport {
     /// Iteration from which the exact Hessian replaced the limited-memory one (hybrid
     /// mode); absent when it never did.
     pub exact_hessian_from: Option<usize>,
+    /// The coarse-mesh solve this guess started from (absent without a presolve).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub presolve: Option<PresolveReport>,
 }
 
 impl GuessReport {
@@ -106,6 +112,7 @@ impl GuessReport {
                 .then_some(r.time_factorisation.as_secs_f64()),
             time_solves_s: (r.solves > 0).then_some(r.time_solves.as_secs_f64()),
             exact_hessian_from: r.exact_hessian_from,
+            presolve: None,
         }
     }
 }
@@ -191,13 +198,176 @@ pub fn with_threads<R: Send>(
     Ok(pool.install(f))
 }
 
+/// Initial barrier parameter of a solve that starts from an optimum (a neighbouring case's
+/// or a coarser mesh's).
+pub const WARM_START_MU: f64 = 1e-4;
+/// Bound push of a solve that starts from an optimum (relative to the bound's magnitude).
+pub const WARM_START_BOUND_PUSH: f64 = 1e-6;
+
+/// Solver options of a solve that starts from an optimum: the interior point starts on the
+/// central path of a small μ with the variables barely pushed from their bounds instead of
+/// re-centring far from it. Backends that cannot warm start get `options` unchanged (they
+/// still start from the optimum, cold).
+pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> SolverOptions {
+    if !solver.supports_warm_start() {
+        return options.clone();
+    }
+    SolverOptions {
+        warm_start: true,
+        mu_init: WARM_START_MU,
+        bound_push: WARM_START_BOUND_PUSH,
+        ..options.clone()
+    }
+}
+
+/// Mesh sequencing of [`solve_guesses`]: each standard guess is first solved on a coarser
+/// mesh and the problem is then solved from that optimum resampled to the requested mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Presolve {
+    /// Mesh intervals of the coarse solve (below the problem's).
+    pub mesh_intervals: usize,
+}
+
+/// Default coarse mesh of a presolve: 10 intervals per half cycle (20 for a full cycle).
+pub const PRESOLVE_MESH: usize = 10;
+
+/// The presolve of a problem with `settings` for the requested coarse mesh (`presolve_mesh`
+/// of a study file's `[solver]`, `stride predict --presolve-mesh`): unset,
+/// [`PRESOLVE_MESH`] intervals per half cycle when the mesh is finer than that, else none; 0
+/// for none; otherwise at least 2 intervals and fewer than the mesh.
+pub fn presolve_for(
+    requested: Option<usize>,
+    settings: &ProblemSettings,
+) -> Result<Option<Presolve>, PredictError> {
+    let mesh = settings.mesh_intervals;
+    let default = match settings.cycle {
+        CycleKind::HalfSymmetric => PRESOLVE_MESH,
+        CycleKind::FullPeriodic => 2 * PRESOLVE_MESH,
+    };
+    let bad = |reason: String| Err(PredictError::Presolve(reason));
+    match requested {
+        None if mesh > default => Ok(Some(Presolve {
+            mesh_intervals: default,
+        })),
+        None | Some(0) => Ok(None),
+        Some(1) => bad(
+            "1: the coarse mesh needs at least 2 intervals (0 turns the presolve off)".into(),
+        ),
+        Some(c) if c >= mesh => bad(format!(
+            "{c}: the coarse mesh must have fewer intervals than the mesh ({mesh}); 0 turns the presolve off"
+        )),
+        Some(c) => Ok(Some(Presolve { mesh_intervals: c })),
+    }
+}
+
+/// The coarse solve of a presolved guess, as recorded in `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct PresolveReport {
+    /// Mesh intervals of the coarse problem.
+    pub mesh_intervals: usize,
+    /// Solver status of the coarse solve.
+    pub status: String,
+    /// Whether the fine solve started from the coarse optimum (false: the coarse solve did
+    /// not converge and the fine solve started from the guess itself).
+    pub used: bool,
+    /// Iterations of the coarse solve.
+    pub iterations: usize,
+    /// Objective of the coarse optimum.
+    pub objective: f64,
+    /// Wall time of the coarse solve and the resampling [s].
+    pub time_total_s: f64,
+}
+
+/// Solves `problem` (its tape `tape`) from `x0` with `options`; `progress` gets every
+/// iteration.
+fn solve_from(
+    problem: &GaitProblem,
+    tape: Arc<TapeNode>,
+    x0: Vec<f64>,
+    solver: &(dyn Solver + Sync),
+    options: &SolverOptions,
+    progress: &(dyn Fn(&IterationRecord) + Sync),
+) -> Result<SolveResult, PredictError> {
+    let tr = Transcription::new(problem.clone(), tape, x0);
+    with_threads(options.threads, || {
+        solver.solve(&tr, options, &mut |rec| {
+            progress(rec);
+            ControlFlow::Continue(())
+        })
+    })?
+    .map_err(|e| PredictError::Solver(e.to_string()))
+}
+
+/// One standard guess on the coarse mesh of `presolve`, then on `problem`'s mesh from the
+/// resampled coarse optimum (warm) or, if the coarse solve failed, from the guess (cold).
+/// The time limit of `options` covers both solves.
+#[allow(clippy::too_many_arguments)]
+fn solve_presolved(
+    model: &Model,
+    problem: &GaitProblem,
+    tape: Arc<TapeNode>,
+    g: GuessKind,
+    presolve: Presolve,
+    solver: &(dyn Solver + Sync),
+    options: &SolverOptions,
+    progress: &(dyn Fn(&IterationRecord) + Sync),
+) -> Result<Solved, PredictError> {
+    let start = std::time::Instant::now();
+    let coarse_settings = ProblemSettings {
+        mesh_intervals: presolve.mesh_intervals,
+        ..problem.settings.clone()
+    };
+    let coarse = GaitProblem::new(model, &coarse_settings, &bounds_data(&coarse_settings))?;
+    let x0 = guess_point(&coarse, g)?;
+    let coarse_tape = Arc::new(TapeNode::for_problem(
+        &coarse,
+        &NodeModel::new(&coarse)?,
+        &x0,
+    )?);
+    let r = solve_from(&coarse, coarse_tape, x0, solver, options, progress)?;
+    let used = r.status.is_success();
+    let (x0, fine_options) = if used {
+        let x = problem
+            .guess_from_full_solution(&coarse, &r.x)
+            .map_err(|e| PredictError::Solver(format!("presolve: {e}")))?;
+        (x, warm_start_options(solver, options))
+    } else {
+        (guess_point(problem, g)?, options.clone())
+    };
+    let mut report = PresolveReport {
+        mesh_intervals: presolve.mesh_intervals,
+        status: format!("{:?}", r.status),
+        used,
+        iterations: r.iterations,
+        objective: r.objective,
+        time_total_s: 0.0,
+    };
+    report.time_total_s = start.elapsed().as_secs_f64();
+    let remaining = options
+        .time_limit
+        .map(|t| t.saturating_sub(start.elapsed()));
+    let fine_options = SolverOptions {
+        time_limit: remaining,
+        ..fine_options
+    };
+    let rf = solve_from(problem, tape, x0, solver, &fine_options, progress)?;
+    let mut solved = Solved {
+        report: GuessReport::new(g, &rf),
+        result: rf,
+    };
+    solved.report.presolve = Some(report);
+    Ok(solved)
+}
+
 /// Solve `model` with `settings` from each guess with `solver`, the guesses at the same time,
-/// each with `options.threads` evaluation threads; `progress` receives every iteration of
-/// every guess.
+/// each with `options.threads` evaluation threads; with `presolve`, each guess is first
+/// solved on that coarser mesh ([`Presolve`]; ignored when it is not coarser than
+/// `settings.mesh_intervals`). `progress` receives every iteration of every guess.
 pub fn solve_guesses(
     model: &Model,
     settings: &ProblemSettings,
     guesses: &[GuessKind],
+    presolve: Option<Presolve>,
     solver: &(dyn Solver + Sync),
     options: &SolverOptions,
     progress: &(dyn Fn(GuessKind, &IterationRecord) + Sync),
@@ -212,24 +382,27 @@ pub fn solve_guesses(
         .first()
         .ok_or_else(|| PredictError::Solver("no initial guess".into()))?;
     let tape = Arc::new(TapeNode::for_problem(&problem, &node, first)?);
+    let presolve = presolve.filter(|p| p.mesh_intervals < settings.mesh_intervals);
     let results: Vec<Result<Solved, PredictError>> = std::thread::scope(|scope| {
         let handles: Vec<_> = guesses
             .iter()
             .zip(x0s)
             .map(|(&g, x0)| {
-                let tr = Transcription::new(problem.clone(), tape.clone(), x0);
+                let (problem, tape) = (&problem, tape.clone());
                 scope.spawn(move || {
-                    let r = with_threads(options.threads, || {
-                        solver.solve(&tr, options, &mut |rec| {
-                            progress(g, rec);
-                            ControlFlow::Continue(())
-                        })
-                    })?
-                    .map_err(|e| PredictError::Solver(e.to_string()))?;
-                    Ok(Solved {
-                        report: GuessReport::new(g, &r),
-                        result: r,
-                    })
+                    let progress = |rec: &IterationRecord| progress(g, rec);
+                    match presolve {
+                        Some(p) => {
+                            solve_presolved(model, problem, tape, g, p, solver, options, &progress)
+                        }
+                        None => {
+                            let r = solve_from(problem, tape, x0, solver, options, &progress)?;
+                            Ok(Solved {
+                                report: GuessReport::new(g, &r),
+                                result: r,
+                            })
+                        }
+                    }
                 })
             })
             .collect();
@@ -555,7 +728,59 @@ fn write_cycle(
 
 #[cfg(test)]
 mod tests {
-    use super::with_threads;
+    use super::{presolve_for, with_threads, Presolve, PRESOLVE_MESH};
+    use crate::settings::{CycleKind, ProblemSettings};
+
+    fn mesh(n: usize) -> ProblemSettings {
+        ProblemSettings {
+            mesh_intervals: n,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn presolve_defaults_below_finer_meshes_and_checks_explicit_values() {
+        let coarse = |n| Some(Presolve { mesh_intervals: n });
+        // unset: the default coarse mesh when the mesh is finer, none otherwise
+        assert_eq!(
+            presolve_for(None, &mesh(50)).unwrap(),
+            coarse(PRESOLVE_MESH)
+        );
+        assert_eq!(
+            presolve_for(None, &mesh(PRESOLVE_MESH + 1)).unwrap(),
+            coarse(PRESOLVE_MESH)
+        );
+        assert_eq!(presolve_for(None, &mesh(PRESOLVE_MESH)).unwrap(), None);
+        assert_eq!(presolve_for(None, &mesh(4)).unwrap(), None);
+        // a full cycle: twice the intervals
+        let full = |n| ProblemSettings {
+            cycle: CycleKind::FullPeriodic,
+            ..mesh(n)
+        };
+        assert_eq!(
+            presolve_for(None, &full(100)).unwrap(),
+            coarse(2 * PRESOLVE_MESH)
+        );
+        assert_eq!(presolve_for(None, &full(2 * PRESOLVE_MESH)).unwrap(), None);
+        // 0: off; explicit values between 2 and mesh − 1
+        assert_eq!(presolve_for(Some(0), &mesh(50)).unwrap(), None);
+        assert_eq!(presolve_for(Some(2), &mesh(50)).unwrap(), coarse(2));
+        assert_eq!(presolve_for(Some(25), &mesh(100)).unwrap(), coarse(25));
+        assert_eq!(presolve_for(Some(49), &mesh(50)).unwrap(), coarse(49));
+        for (bad, n, needle) in [
+            (1, 50, "presolve_mesh 1: the coarse mesh needs at least 2"),
+            (
+                50,
+                50,
+                "presolve_mesh 50: the coarse mesh must have fewer intervals than the mesh (50)",
+            ),
+            (60, 50, "presolve_mesh 60"),
+            (10, 8, "presolve_mesh 10"),
+        ] {
+            let e = presolve_for(Some(bad), &mesh(n)).unwrap_err().to_string();
+            assert!(e.contains(needle), "{e}");
+        }
+    }
 
     #[test]
     fn a_solve_runs_with_the_threads_asked_for() {

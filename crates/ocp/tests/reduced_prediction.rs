@@ -31,7 +31,7 @@ use stride_ocp::{
 };
 use stride_solve::ipm::InteriorPoint;
 use stride_solve::nlp::Nlp;
-use stride_solve::solver::{MuStrategy, SolveResult, SolveStatus, SolverOptions};
+use stride_solve::solver::{HessianMode, MuStrategy, SolveResult, SolveStatus, SolverOptions};
 
 /// Objective IPOPT reaches on this problem (10 intervals, data-informed guess, tol 1e-4).
 const IPOPT_OBJECTIVE: f64 = 301.523;
@@ -134,6 +134,7 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
         &model,
         &settings,
         &[GuessKind::DataInformedWalking],
+        None,
         &InteriorPoint::new(),
         &options,
         &|_, _| {},
@@ -234,4 +235,113 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
     assert!(before == after, "motion.mot changed when rewritten");
     assert!(out.join("solver_log_data-informed-walking.csv").is_file());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Largest constraint violation of `problem`'s NLP at `x` (unscaled max norm, rows and
+/// variable bounds).
+fn violation_at(problem: &GaitProblem, x: &[f64]) -> f64 {
+    let node = NodeModel::new(problem).unwrap();
+    let tape = Arc::new(TapeNode::for_problem(problem, &node, x).unwrap());
+    let tr = Transcription::new(problem.clone(), tape, x.to_vec());
+    let (mut xl, mut xu) = (vec![0.0; tr.n()], vec![0.0; tr.n()]);
+    let (mut gl, mut gu) = (vec![0.0; tr.m()], vec![0.0; tr.m()]);
+    tr.bounds(&mut xl, &mut xu, &mut gl, &mut gu);
+    let mut g = vec![0.0; tr.m()];
+    tr.constraints(x, &mut g).unwrap();
+    let rows = g
+        .iter()
+        .zip(gl.iter().zip(&gu))
+        .map(|(&v, (&l, &u))| (l - v).max(v - u).max(0.0));
+    let vars = x
+        .iter()
+        .zip(xl.iter().zip(&xu))
+        .map(|(&v, (&l, &u))| (l - v).max(v - u).max(0.0));
+    rows.chain(vars).fold(0.0, f64::max)
+}
+
+/// Mesh sequencing with `stride predict`'s solver options: the data-informed guess solved
+/// on 4 intervals, its optimum resampled to 8 intervals, then solved there. The resampled optimum nearly satisfies the finer
+/// collocation (its violation is far below the guess's), and the fine solve from it
+/// converges to a point that passes the recomputed first-order conditions.
+#[test]
+fn presolve_on_a_coarser_mesh_starts_near_feasible_and_converges() {
+    let model = stride_model::default_model::default_model();
+    let settings = |n: usize| ProblemSettings {
+        mesh_intervals: n,
+        ..Default::default()
+    };
+    // the options of `stride predict` (hybrid Hessian, two centrality correctors)
+    let options = SolverOptions {
+        tol: 1e-4,
+        mu_strategy: MuStrategy::Adaptive,
+        hessian: HessianMode::LimitedMemory { history: 6 },
+        exact_hessian_tail: true,
+        centrality_correctors: 2,
+        constr_viol_tol: 1e-6,
+        max_iter: 600,
+        time_limit: Some(Duration::from_secs(1500)),
+        threads: 2,
+        ..Default::default()
+    };
+    let solver = InteriorPoint::new();
+    let presolve = stride_ocp::predict::Presolve { mesh_intervals: 4 };
+    let (problem, solved) = solve_guesses(
+        &model,
+        &settings(8),
+        &[GuessKind::DataInformedWalking],
+        Some(presolve),
+        &solver,
+        &options,
+        &|_, _| {},
+    )
+    .expect("solve");
+    let s = &solved[0];
+    let p = s.report.presolve.as_ref().expect("presolve report");
+    eprintln!(
+        "presolve: {} after {} iterations (f = {}); fine: {:?} after {} iterations, f = {}",
+        p.status,
+        p.iterations,
+        p.objective,
+        s.result.status,
+        s.result.iterations,
+        s.result.objective
+    );
+    assert_eq!(p.mesh_intervals, 4);
+    assert!(p.used && p.status == "Optimal", "{p:?}");
+    assert_eq!(s.result.status, SolveStatus::Optimal);
+    let k = kkt(&problem, &s.result);
+    assert!(k.violation < 1e-4, "violation {}", k.violation);
+    assert!(k.stationarity < 1e-2, "stationarity {}", k.stationarity);
+    assert!(k.wrong_sign <= 0.0, "wrong sign {}", k.wrong_sign);
+
+    // the starting point of the fine solve, rebuilt independently: the coarse problem
+    // solved cold, its optimum resampled
+    let coarse_settings = settings(4);
+    let coarse = GaitProblem::new(
+        &model,
+        &coarse_settings,
+        &stride_ocp::predict::bounds_data(&coarse_settings),
+    )
+    .unwrap();
+    let (_, coarse_solved) = solve_guesses(
+        &model,
+        &coarse_settings,
+        &[GuessKind::DataInformedWalking],
+        None,
+        &solver,
+        &options,
+        &|_, _| {},
+    )
+    .expect("coarse solve");
+    assert_eq!(coarse_solved[0].result.objective, p.objective);
+    let start = problem
+        .guess_from_full_solution(&coarse, &coarse_solved[0].result.x)
+        .unwrap();
+    let guess = stride_ocp::predict::guess_point(&problem, GuessKind::DataInformedWalking).unwrap();
+    let (v_start, v_guess) = (
+        violation_at(&problem, &start),
+        violation_at(&problem, &guess),
+    );
+    eprintln!("violation at the resampled optimum {v_start:e}, at the guess {v_guess:e}");
+    assert!(v_start < 0.1 * v_guess, "{v_start} vs {v_guess}");
 }

@@ -22,11 +22,6 @@ use stride_solve::solver::{ControlFlow, Solver, SolverOptions};
 use stride_ocp::solution::{read_solution, solution_problem, write_solution};
 pub use stride_ocp::solution::{Rewritten, SolutionFile, SOLUTION_FILE};
 
-/// Initial barrier parameter of a full-solution continuation.
-const WARM_START_MU: f64 = 1e-4;
-/// Bound push of a full-solution continuation (relative to the bound's magnitude).
-const WARM_START_BOUND_PUSH: f64 = 1e-6;
-
 /// Runs cases with `stride_ocp::predict` and a solver backend.
 pub struct PredictRunner {
     /// Musculoskeletal model.
@@ -37,6 +32,9 @@ pub struct PredictRunner {
     pub options: SolverOptions,
     /// Also write `solution.json` (the last iterate) for cases that did not converge.
     pub write_unconverged: bool,
+    /// Coarse mesh requested for the presolve of standard guesses (`presolve_mesh` of
+    /// `[study.solver]`; None: the default of [`predict::presolve_for`]).
+    pub presolve_mesh: Option<usize>,
 }
 
 fn err(e: impl std::fmt::Display) -> String {
@@ -99,19 +97,6 @@ impl PredictRunner {
     }
 }
 
-/// Solver options of a full-solution continuation: the start is a neighbouring optimum, so
-/// the interior point starts on the central path of a small μ with the variables barely
-/// pushed from their bounds instead of re-centring far from it (backends that cannot, such
-/// as ripopt, solve these cases cold).
-fn warm_start_options(options: &SolverOptions) -> SolverOptions {
-    SolverOptions {
-        warm_start: true,
-        mu_init: WARM_START_MU,
-        bound_push: WARM_START_BOUND_PUSH,
-        ..options.clone()
-    }
-}
-
 /// COM height and forward velocity over a reconstructed cycle → energy phase correlation.
 fn com_energy_correlation(
     problem: &GaitProblem,
@@ -145,10 +130,8 @@ impl CaseRunner for PredictRunner {
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<CaseOutcome, String> {
         let options = match case.guess {
-            CaseGuess::Continuation(ContinuationKind::FullSolution)
-                if self.solver.supports_warm_start() =>
-            {
-                warm_start_options(&self.options)
+            CaseGuess::Continuation(ContinuationKind::FullSolution) => {
+                predict::warm_start_options(self.solver.as_ref(), &self.options)
             }
             _ => self.options.clone(),
         };
@@ -157,6 +140,7 @@ impl CaseRunner for PredictRunner {
                 &self.model,
                 &case.settings,
                 &[g],
+                predict::presolve_for(self.presolve_mesh, &case.settings).map_err(err)?,
                 self.solver.as_ref(),
                 &options,
                 &|_, rec| progress(rec.iter),
@@ -236,12 +220,22 @@ pub fn rewrite_case(model: &Model, dir: &Path) -> Result<Rewritten, String> {
     stride_ocp::solution::rewrite_folder(model, dir).map_err(err)
 }
 
-/// Build every case's problem once (model changes, bounds) so that a case the model cannot
-/// take (unknown muscle, missing body) is an error naming the case before anything runs.
-pub fn check_cases(model: &Model, cases: &[Case]) -> Result<(), String> {
+/// Build every case's problem once (model changes, bounds) and check the presolve mesh
+/// against each standard-guess case's mesh, so that a case the model cannot take (unknown
+/// muscle, missing body) or an impossible presolve is an error naming the case before
+/// anything runs.
+pub fn check_cases(
+    model: &Model,
+    cases: &[Case],
+    presolve_mesh: Option<usize>,
+) -> Result<(), String> {
     for c in cases {
         GaitProblem::new(model, &c.settings, &predict::bounds_data(&c.settings))
             .map_err(|e| format!("case `{}`: {e}", c.name))?;
+        if matches!(c.guess, CaseGuess::Standard(_)) {
+            predict::presolve_for(presolve_mesh, &c.settings)
+                .map_err(|e| format!("case `{}`: [study.solver] {e}", c.name))?;
+        }
     }
     Ok(())
 }

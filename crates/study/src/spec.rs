@@ -62,6 +62,9 @@ pub struct SolverSpec {
     pub time_limit: Option<f64>,
     /// Centrality correctors per iteration (ipm only; default 2 with the hybrid Hessian).
     pub centrality_correctors: Option<usize>,
+    /// Coarse mesh on which each standard guess is solved first (default 10 below finer
+    /// meshes; 0: none).
+    pub presolve_mesh: Option<usize>,
 }
 
 /// The `[study]` table: identity, output, parallelism, solver.

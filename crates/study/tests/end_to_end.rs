@@ -32,7 +32,8 @@ guesses = ["quasi-random", "full-os", "partial-os"]
     let study = spec::parse(text, Path::new("tiny.toml")).unwrap();
     assert_eq!(study.cases.len(), 4);
     let model = stride_model::default_model::default_model();
-    check_cases(&model, &study.cases).unwrap();
+    check_cases(&model, &study.cases, Some(4)).unwrap();
+    assert!(check_cases(&model, &study.cases, Some(8)).is_err());
     let store = Store::open(&out, &study, false).unwrap();
     let runner = PredictRunner {
         model,
@@ -46,6 +47,8 @@ guesses = ["quasi-random", "full-os", "partial-os"]
             ..Default::default()
         },
         write_unconverged: true,
+        // the 4-iteration coarse solves do not converge: the fine solves start cold
+        presolve_mesh: Some(4),
     };
     let summary = run_study(
         &study,
@@ -77,6 +80,16 @@ guesses = ["quasi-random", "full-os", "partial-os"]
         let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
         let s: serde_json::Value = serde_json::from_str(&text).unwrap();
         assert_eq!(s["guesses"][0]["guess"], guess, "{name}");
+        // standard guesses are presolved on the coarse mesh (here unconverged after 4
+        // iterations, so not used); continuations start from their source instead
+        let presolve = &s["guesses"][0]["presolve"];
+        if guess == "quasi-random" {
+            assert_eq!(presolve["mesh_intervals"], 4, "{name}");
+            assert_eq!(presolve["used"], false, "{name}");
+            assert_eq!(presolve["iterations"], 4, "{name}");
+        } else {
+            assert!(presolve.is_null(), "{name}: {presolve}");
+        }
         assert!(
             dir.join(format!("solver_log_{guess}.csv")).exists(),
             "{name}"
