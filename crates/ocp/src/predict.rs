@@ -276,6 +276,9 @@ pub struct PresolveReport {
     pub objective: f64,
     /// Wall time of the coarse solve and the resampling [s].
     pub time_total_s: f64,
+    /// Iteration log of the coarse solve (written to `solver_log_<guess>_presolve.csv`).
+    #[serde(skip)]
+    pub log: Vec<IterationRecord>,
 }
 
 /// Solves `problem` (its tape `tape`) from `x0` with `options`; `progress` gets every
@@ -341,6 +344,7 @@ fn solve_presolved(
         iterations: r.iterations,
         objective: r.objective,
         time_total_s: 0.0,
+        log: r.log,
     };
     report.time_total_s = start.elapsed().as_secs_f64();
     let remaining = options
@@ -444,6 +448,30 @@ pub(crate) fn read_err(path: &Path, e: impl ToString) -> PredictError {
     }
 }
 
+/// The iteration log as CSV (one header line, one line per iteration).
+fn log_csv(records: &[IterationRecord]) -> String {
+    let mut log =
+        String::from("iter,objective,inf_pr,inf_du,mu,alpha_pr,alpha_du,regularisation,line_search_trials,factorisations,elapsed_s\n");
+    for r in records {
+        let _ = writeln!(
+            log,
+            "{},{},{},{},{},{},{},{},{},{},{}",
+            r.iter,
+            r.objective,
+            r.inf_pr,
+            r.inf_du,
+            r.mu,
+            r.alpha_pr,
+            r.alpha_du,
+            r.regularisation,
+            r.ls_trials,
+            r.factorisations,
+            r.elapsed.as_secs_f64()
+        );
+    }
+    log
+}
+
 /// Write every result file of a solved problem into `out` atomically: files go to a
 /// sibling temporary folder that replaces `out` only when complete.
 pub fn write_results(
@@ -458,29 +486,14 @@ pub fn write_results(
     let tmp = sibling_dir(out, "partial")?;
     let result = (|| {
         let mut outcomes = None;
-        // Solver logs of every guess.
+        // Solver logs of every guess (and of its coarse-mesh presolve).
         for s in solved {
-            let mut log =
-                String::from("iter,objective,inf_pr,inf_du,mu,alpha_pr,alpha_du,regularisation,line_search_trials,factorisations,elapsed_s\n");
-            for r in &s.result.log {
-                let _ = writeln!(
-                    log,
-                    "{},{},{},{},{},{},{},{},{},{},{}",
-                    r.iter,
-                    r.objective,
-                    r.inf_pr,
-                    r.inf_du,
-                    r.mu,
-                    r.alpha_pr,
-                    r.alpha_du,
-                    r.regularisation,
-                    r.ls_trials,
-                    r.factorisations,
-                    r.elapsed.as_secs_f64()
-                );
-            }
             let p = tmp.join(format!("solver_log_{}.csv", s.report.guess));
-            write_atomic(&p, log.as_bytes()).map_err(|e| write_err(&p, e))?;
+            write_atomic(&p, log_csv(&s.result.log).as_bytes()).map_err(|e| write_err(&p, e))?;
+            if let Some(pre) = &s.report.presolve {
+                let p = tmp.join(format!("solver_log_{}_presolve.csv", s.report.guess));
+                write_atomic(&p, log_csv(&pre.log).as_bytes()).map_err(|e| write_err(&p, e))?;
+            }
         }
         if let Some(k) = kept {
             let mesh = problem.mesh_solution(&node, &solved[k].result.x)?;

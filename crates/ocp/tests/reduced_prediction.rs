@@ -313,6 +313,23 @@ fn presolve_on_a_coarser_mesh_starts_near_feasible_and_converges() {
     assert!(k.violation < 1e-4, "violation {}", k.violation);
     assert!(k.stationarity < 1e-2, "stationarity {}", k.stationarity);
     assert!(k.wrong_sign <= 0.0, "wrong sign {}", k.wrong_sign);
+    // the result folder holds the coarse solve's log next to the fine one's, and the
+    // summary its report
+    let out = std::env::temp_dir().join(format!("stride-presolve-{}", std::process::id()));
+    write_results(&problem, &solved, select(&solved), "ipm", &options, &out).expect("write");
+    let log = std::fs::read_to_string(out.join("solver_log_data-informed-walking_presolve.csv"))
+        .expect("presolve log");
+    assert_eq!(
+        log.lines().count(),
+        p.log.len() + 1,
+        "header + one line per iteration"
+    );
+    assert!(p.log.len() >= p.iterations);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["guesses"][0]["presolve"]["mesh_intervals"], 4);
+    assert_eq!(summary["guesses"][0]["presolve"]["used"], true);
+    let _ = std::fs::remove_dir_all(&out);
 
     // the starting point of the fine solve, rebuilt independently: the coarse problem
     // solved cold, its optimum resampled
