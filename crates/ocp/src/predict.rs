@@ -301,16 +301,19 @@ fn solve_from(
     .map_err(|e| PredictError::Solver(e.to_string()))
 }
 
-/// One standard guess on the coarse mesh of `presolve`, then on `problem`'s mesh from the
-/// resampled coarse optimum (warm) or, if the coarse solve failed, from the guess (cold).
-/// The time limit of `options` covers both solves.
+/// Solves `problem` (its tape `tape`) first on the coarse mesh of `presolve` from
+/// `coarse_x0(coarse problem)`, then on `problem`'s mesh from the resampled coarse optimum
+/// (warm) or, if the coarse solve failed, from `fine_x0` (cold). The time limit of
+/// `options` covers both solves; the report names `guess` and records the coarse solve.
 #[allow(clippy::too_many_arguments)]
-fn solve_presolved(
+pub fn solve_presolved(
     model: &Model,
     problem: &GaitProblem,
     tape: Arc<TapeNode>,
-    g: GuessKind,
+    guess: InitialGuess,
     presolve: Presolve,
+    coarse_x0: &dyn Fn(&GaitProblem) -> Result<Vec<f64>, PredictError>,
+    fine_x0: Vec<f64>,
     solver: &(dyn Solver + Sync),
     options: &SolverOptions,
     progress: &(dyn Fn(&IterationRecord) + Sync),
@@ -321,7 +324,7 @@ fn solve_presolved(
         ..problem.settings.clone()
     };
     let coarse = GaitProblem::new(model, &coarse_settings, &bounds_data(&coarse_settings))?;
-    let x0 = guess_point(&coarse, g)?;
+    let x0 = coarse_x0(&coarse)?;
     let coarse_tape = Arc::new(TapeNode::for_problem(
         &coarse,
         &NodeModel::new(&coarse)?,
@@ -335,28 +338,26 @@ fn solve_presolved(
             .map_err(|e| PredictError::Solver(format!("presolve: {e}")))?;
         (x, warm_start_options(solver, options))
     } else {
-        (guess_point(problem, g)?, options.clone())
+        (fine_x0, options.clone())
     };
-    let mut report = PresolveReport {
+    let report = PresolveReport {
         mesh_intervals: presolve.mesh_intervals,
         status: format!("{:?}", r.status),
         used,
         iterations: r.iterations,
         objective: r.objective,
-        time_total_s: 0.0,
+        time_total_s: start.elapsed().as_secs_f64(),
         log: r.log,
     };
-    report.time_total_s = start.elapsed().as_secs_f64();
-    let remaining = options
-        .time_limit
-        .map(|t| t.saturating_sub(start.elapsed()));
     let fine_options = SolverOptions {
-        time_limit: remaining,
+        time_limit: options
+            .time_limit
+            .map(|t| t.saturating_sub(start.elapsed())),
         ..fine_options
     };
     let rf = solve_from(problem, tape, x0, solver, &fine_options, progress)?;
     let mut solved = Solved {
-        report: GuessReport::new(g, &rf),
+        report: GuessReport::new(guess, &rf),
         result: rf,
     };
     solved.report.presolve = Some(report);
@@ -396,9 +397,18 @@ pub fn solve_guesses(
                 scope.spawn(move || {
                     let progress = |rec: &IterationRecord| progress(g, rec);
                     match presolve {
-                        Some(p) => {
-                            solve_presolved(model, problem, tape, g, p, solver, options, &progress)
-                        }
+                        Some(p) => solve_presolved(
+                            model,
+                            problem,
+                            tape,
+                            g.into(),
+                            p,
+                            &|coarse| guess_point(coarse, g),
+                            x0,
+                            solver,
+                            options,
+                            &progress,
+                        ),
                         None => {
                             let r = solve_from(problem, tape, x0, solver, options, &progress)?;
                             Ok(Solved {

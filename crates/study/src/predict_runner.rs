@@ -60,12 +60,7 @@ impl PredictRunner {
                 .map_err(err)?;
                 problem.guess_from_full_solution(&src, &sol.x).map_err(err)
             }
-            ContinuationKind::PartialSolution => {
-                let n = problem.layout.n.min(sol.cycle_time.len());
-                problem
-                    .guess_from_coordinates(&sol.cycle_time[..n], &sol.cycle_q[..n])
-                    .map_err(err)
-            }
+            ContinuationKind::PartialSolution => partial_solution_guess(problem, &sol),
         }
     }
 
@@ -95,6 +90,15 @@ impl PredictRunner {
             result: r,
         })
     }
+}
+
+/// Partial-solution guess for `problem` (any mesh) from a neighbouring solution: the joint
+/// positions of its first half cycle (its first N cycle samples, N its mesh intervals).
+fn partial_solution_guess(problem: &GaitProblem, sol: &SolutionFile) -> Result<Vec<f64>, String> {
+    let n = sol.settings.mesh_intervals.min(sol.cycle_time.len());
+    problem
+        .guess_from_coordinates(&sol.cycle_time[..n], &sol.cycle_q[..n])
+        .map_err(err)
 }
 
 /// COM height and forward velocity over a reconstructed cycle → energy phase correlation.
@@ -155,7 +159,42 @@ impl CaseRunner for PredictRunner {
                 .map_err(err)?;
                 let src = source.ok_or("continuation guess without a source case")?;
                 let x0 = self.continuation_guess(&problem, kind, src)?;
-                let s = self.solve_from(&problem, x0, case.guess, &options, progress)?;
+                let presolve = match kind {
+                    // a partial solution starts the muscles cold: presolved like a
+                    // standard guess
+                    ContinuationKind::PartialSolution => {
+                        predict::presolve_for(self.presolve_mesh, &case.settings).map_err(err)?
+                    }
+                    ContinuationKind::FullSolution => None,
+                };
+                let s = match presolve {
+                    Some(p) => {
+                        let sol = read_solution(src).map_err(err)?;
+                        let node = NodeModel::new(&problem).map_err(err)?;
+                        let tape =
+                            Arc::new(TapeNode::for_problem(&problem, &node, &x0).map_err(err)?);
+                        predict::solve_presolved(
+                            &self.model,
+                            &problem,
+                            tape,
+                            case.guess,
+                            p,
+                            &|coarse| {
+                                partial_solution_guess(coarse, &sol).map_err(|e| {
+                                    predict::PredictError::Solver(format!(
+                                        "partial-solution guess: {e}"
+                                    ))
+                                })
+                            },
+                            x0,
+                            self.solver.as_ref(),
+                            &options,
+                            &|rec| progress(rec.iter),
+                        )
+                        .map_err(err)?
+                    }
+                    None => self.solve_from(&problem, x0, case.guess, &options, progress)?,
+                };
                 (problem, vec![s])
             }
         };
@@ -232,7 +271,10 @@ pub fn check_cases(
     for c in cases {
         GaitProblem::new(model, &c.settings, &predict::bounds_data(&c.settings))
             .map_err(|e| format!("case `{}`: {e}", c.name))?;
-        if matches!(c.guess, CaseGuess::Standard(_)) {
+        if !matches!(
+            c.guess,
+            CaseGuess::Continuation(ContinuationKind::FullSolution)
+        ) {
             predict::presolve_for(presolve_mesh, &c.settings)
                 .map_err(|e| format!("case `{}`: [study.solver] {e}", c.name))?;
         }
