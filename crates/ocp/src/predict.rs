@@ -281,9 +281,18 @@ pub struct PresolveReport {
     pub log: Vec<IterationRecord>,
 }
 
+/// The node tape of `problem`, recorded at `x0`; one tape serves every solve of the problem.
+pub fn record_tape(problem: &GaitProblem, x0: &[f64]) -> Result<Arc<TapeNode>, PredictError> {
+    Ok(Arc::new(TapeNode::for_problem(
+        problem,
+        &NodeModel::new(problem)?,
+        x0,
+    )?))
+}
+
 /// Solves `problem` (its tape `tape`) from `x0` with `options`; `progress` gets every
 /// iteration.
-fn solve_from(
+pub fn solve_from(
     problem: &GaitProblem,
     tape: Arc<TapeNode>,
     x0: Vec<f64>,
@@ -301,47 +310,62 @@ fn solve_from(
     .map_err(|e| PredictError::Solver(e.to_string()))
 }
 
-/// Solves `problem` (its tape `tape`) first on the coarse mesh of `presolve` from
-/// `coarse_x0(coarse problem)`, then on `problem`'s mesh from the resampled coarse optimum
-/// (warm) or, if the coarse solve failed, from `fine_x0` (cold). The time limit of
-/// `options` covers both solves; the report names `guess` and records the coarse solve.
-#[allow(clippy::too_many_arguments)]
-pub fn solve_presolved(
+/// The problem of `settings` on the coarse mesh of `presolve`.
+pub fn coarse_problem(
     model: &Model,
-    problem: &GaitProblem,
-    tape: Arc<TapeNode>,
-    guess: InitialGuess,
+    settings: &ProblemSettings,
     presolve: Presolve,
-    coarse_x0: &dyn Fn(&GaitProblem) -> Result<Vec<f64>, PredictError>,
-    fine_x0: Vec<f64>,
+) -> Result<GaitProblem, PredictError> {
+    let coarse = ProblemSettings {
+        mesh_intervals: presolve.mesh_intervals,
+        ..settings.clone()
+    };
+    Ok(GaitProblem::new(model, &coarse, &bounds_data(&coarse))?)
+}
+
+/// One mesh of a presolved guess: the problem, its tape and the starting point.
+pub struct Stage<'a> {
+    /// The problem on this mesh.
+    pub problem: &'a GaitProblem,
+    /// Its node tape (shared between the guesses solved on it).
+    pub tape: Arc<TapeNode>,
+    /// Starting point: the guess on the coarse mesh; on the fine mesh the fallback used when
+    /// the coarse solve fails.
+    pub x0: Vec<f64>,
+}
+
+/// Solves `coarse` from its starting point, then `fine` from the resampled coarse optimum
+/// (warm) or, if the coarse solve failed, from `fine.x0` (cold). The time limit of `options`
+/// covers both solves; the report names `guess` and records the coarse solve.
+pub fn solve_presolved(
+    coarse: Stage,
+    fine: Stage,
+    guess: InitialGuess,
     solver: &(dyn Solver + Sync),
     options: &SolverOptions,
     progress: &(dyn Fn(&IterationRecord) + Sync),
 ) -> Result<Solved, PredictError> {
     let start = std::time::Instant::now();
-    let coarse_settings = ProblemSettings {
-        mesh_intervals: presolve.mesh_intervals,
-        ..problem.settings.clone()
-    };
-    let coarse = GaitProblem::new(model, &coarse_settings, &bounds_data(&coarse_settings))?;
-    let x0 = coarse_x0(&coarse)?;
-    let coarse_tape = Arc::new(TapeNode::for_problem(
-        &coarse,
-        &NodeModel::new(&coarse)?,
-        &x0,
-    )?);
-    let r = solve_from(&coarse, coarse_tape, x0, solver, options, progress)?;
+    let r = solve_from(
+        coarse.problem,
+        coarse.tape,
+        coarse.x0,
+        solver,
+        options,
+        progress,
+    )?;
     let used = r.status.is_success();
     let (x0, fine_options) = if used {
-        let x = problem
-            .guess_from_full_solution(&coarse, &r.x)
+        let x = fine
+            .problem
+            .guess_from_full_solution(coarse.problem, &r.x)
             .map_err(|e| PredictError::Solver(format!("presolve: {e}")))?;
         (x, warm_start_options(solver, options))
     } else {
-        (fine_x0, options.clone())
+        (fine.x0, options.clone())
     };
     let report = PresolveReport {
-        mesh_intervals: presolve.mesh_intervals,
+        mesh_intervals: coarse.problem.layout.n,
         status: format!("{:?}", r.status),
         used,
         iterations: r.iterations,
@@ -355,7 +379,7 @@ pub fn solve_presolved(
             .map(|t| t.saturating_sub(start.elapsed())),
         ..fine_options
     };
-    let rf = solve_from(problem, tape, x0, solver, &fine_options, progress)?;
+    let rf = solve_from(fine.problem, fine.tape, x0, solver, &fine_options, progress)?;
     let mut solved = Solved {
         report: GuessReport::new(guess, &rf),
         result: rf,
@@ -378,7 +402,6 @@ pub fn solve_guesses(
     progress: &(dyn Fn(GuessKind, &IterationRecord) + Sync),
 ) -> Result<(GaitProblem, Vec<Solved>), PredictError> {
     let problem = GaitProblem::new(model, settings, &bounds_data(settings))?;
-    let node = NodeModel::new(&problem)?;
     let x0s = guesses
         .iter()
         .map(|&g| guess_point(&problem, g))
@@ -386,25 +409,38 @@ pub fn solve_guesses(
     let first = x0s
         .first()
         .ok_or_else(|| PredictError::Solver("no initial guess".into()))?;
-    let tape = Arc::new(TapeNode::for_problem(&problem, &node, first)?);
-    let presolve = presolve.filter(|p| p.mesh_intervals < settings.mesh_intervals);
+    let tape = record_tape(&problem, first)?;
+    // the coarse problem and its tape, built once for all guesses
+    let coarse = match presolve.filter(|p| p.mesh_intervals < settings.mesh_intervals) {
+        Some(p) => {
+            let coarse = coarse_problem(model, settings, p)?;
+            let starts = guesses
+                .iter()
+                .map(|&g| guess_point(&coarse, g))
+                .collect::<Result<Vec<_>, _>>()?;
+            let coarse_tape = record_tape(&coarse, &starts[0])?;
+            Some((coarse, coarse_tape, starts))
+        }
+        None => None,
+    };
     let results: Vec<Result<Solved, PredictError>> = std::thread::scope(|scope| {
         let handles: Vec<_> = guesses
             .iter()
             .zip(x0s)
-            .map(|(&g, x0)| {
-                let (problem, tape) = (&problem, tape.clone());
+            .enumerate()
+            .map(|(i, (&g, x0))| {
+                let (problem, tape, coarse) = (&problem, tape.clone(), coarse.as_ref());
                 scope.spawn(move || {
                     let progress = |rec: &IterationRecord| progress(g, rec);
-                    match presolve {
-                        Some(p) => solve_presolved(
-                            model,
-                            problem,
-                            tape,
+                    match coarse {
+                        Some((cp, ct, starts)) => solve_presolved(
+                            Stage {
+                                problem: cp,
+                                tape: ct.clone(),
+                                x0: starts[i].clone(),
+                            },
+                            Stage { problem, tape, x0 },
                             g.into(),
-                            p,
-                            &|coarse| guess_point(coarse, g),
-                            x0,
                             solver,
                             options,
                             &progress,

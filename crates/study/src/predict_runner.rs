@@ -8,16 +8,13 @@ use crate::runner::CaseRunner;
 use crate::spec::{Case, CaseGuess};
 use crate::store::{CaseOutcome, Metrics};
 use std::path::Path;
-use std::sync::Arc;
 use stride_model::Model;
 use stride_ocp::guess::ContinuationKind;
 use stride_ocp::measures::ConditionMeasures;
 use stride_ocp::node::NodeModel;
-use stride_ocp::predict::{self, GuessReport, Solved};
+use stride_ocp::predict::{self, GuessReport, Solved, Stage};
 use stride_ocp::problem::{GaitProblem, GRAVITY};
-use stride_ocp::tape_node::TapeNode;
-use stride_ocp::transcription::Transcription;
-use stride_solve::solver::{ControlFlow, Solver, SolverOptions};
+use stride_solve::solver::{IterationRecord, Solver, SolverOptions};
 
 use stride_ocp::solution::{read_solution, solution_problem, write_solution};
 pub use stride_ocp::solution::{Rewritten, SolutionFile, SOLUTION_FILE};
@@ -42,14 +39,13 @@ fn err(e: impl std::fmt::Display) -> String {
 }
 
 impl PredictRunner {
-    /// Initial NLP vector of a continuation guess from the source case folder.
+    /// Initial NLP vector of a continuation guess from the source case's solution.
     fn continuation_guess(
         &self,
         problem: &GaitProblem,
         kind: ContinuationKind,
-        source: &Path,
+        sol: &SolutionFile,
     ) -> Result<Vec<f64>, String> {
-        let sol = read_solution(source).map_err(err)?;
         match kind {
             ContinuationKind::FullSolution => {
                 let src = GaitProblem::new(
@@ -60,36 +56,19 @@ impl PredictRunner {
                 .map_err(err)?;
                 problem.guess_from_full_solution(&src, &sol.x).map_err(err)
             }
-            ContinuationKind::PartialSolution => partial_solution_guess(problem, &sol),
+            ContinuationKind::PartialSolution => partial_solution_guess(problem, sol),
         }
     }
+}
 
-    /// Solve a problem from an explicit initial point (what `solve_guesses` does for the
-    /// standard guesses); `label` is the guess recorded in the summary and log file name.
-    fn solve_from(
-        &self,
-        problem: &GaitProblem,
-        x0: Vec<f64>,
-        label: CaseGuess,
-        options: &SolverOptions,
-        progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<Solved, String> {
-        let node = NodeModel::new(problem).map_err(err)?;
-        let tape = Arc::new(TapeNode::for_problem(problem, &node, &x0).map_err(err)?);
-        let tr = Transcription::new(problem.clone(), tape, x0);
-        let r = predict::with_threads(options.threads, || {
-            self.solver.solve(&tr, options, &mut |rec| {
-                progress(rec.iter);
-                ControlFlow::Continue(())
-            })
-        })
-        .map_err(err)?
-        .map_err(|e| format!("solver: {e}"))?;
-        Ok(Solved {
-            report: GuessReport::new(label, &r),
-            result: r,
-        })
-    }
+/// Whether a case with initial guess `guess` is presolved on a coarse mesh: every guess
+/// whose muscle states start cold (standard and partial-solution guesses), not a
+/// full-solution continuation (it starts from a neighbouring optimum).
+fn is_presolved(guess: CaseGuess) -> bool {
+    !matches!(
+        guess,
+        CaseGuess::Continuation(ContinuationKind::FullSolution)
+    )
 }
 
 /// Partial-solution guess for `problem` (any mesh) from a neighbouring solution: the joint
@@ -158,43 +137,52 @@ impl CaseRunner for PredictRunner {
                 )
                 .map_err(err)?;
                 let src = source.ok_or("continuation guess without a source case")?;
-                let x0 = self.continuation_guess(&problem, kind, src)?;
-                let presolve = match kind {
-                    // a partial solution starts the muscles cold: presolved like a
-                    // standard guess
-                    ContinuationKind::PartialSolution => {
-                        predict::presolve_for(self.presolve_mesh, &case.settings).map_err(err)?
-                    }
-                    ContinuationKind::FullSolution => None,
+                let sol = read_solution(src).map_err(err)?;
+                let x0 = self.continuation_guess(&problem, kind, &sol)?;
+                let tape = predict::record_tape(&problem, &x0).map_err(err)?;
+                let progress = |rec: &IterationRecord| progress(rec.iter);
+                let presolve = if is_presolved(case.guess) {
+                    predict::presolve_for(self.presolve_mesh, &case.settings).map_err(err)?
+                } else {
+                    None
                 };
                 let s = match presolve {
                     Some(p) => {
-                        let sol = read_solution(src).map_err(err)?;
-                        let node = NodeModel::new(&problem).map_err(err)?;
-                        let tape =
-                            Arc::new(TapeNode::for_problem(&problem, &node, &x0).map_err(err)?);
+                        let coarse =
+                            predict::coarse_problem(&self.model, &case.settings, p).map_err(err)?;
+                        let cx0 = self.continuation_guess(&coarse, kind, &sol)?;
+                        let coarse_tape = predict::record_tape(&coarse, &cx0).map_err(err)?;
                         predict::solve_presolved(
-                            &self.model,
-                            &problem,
-                            tape,
-                            case.guess,
-                            p,
-                            &|coarse| {
-                                partial_solution_guess(coarse, &sol).map_err(|e| {
-                                    predict::PredictError::Solver(format!(
-                                        "partial-solution guess: {e}"
-                                    ))
-                                })
+                            Stage {
+                                problem: &coarse,
+                                tape: coarse_tape,
+                                x0: cx0,
                             },
-                            x0,
+                            Stage {
+                                problem: &problem,
+                                tape,
+                                x0,
+                            },
+                            case.guess,
                             self.solver.as_ref(),
                             &options,
-                            &|rec| progress(rec.iter),
+                            &progress,
                         )
-                        .map_err(err)?
                     }
-                    None => self.solve_from(&problem, x0, case.guess, &options, progress)?,
-                };
+                    None => predict::solve_from(
+                        &problem,
+                        tape,
+                        x0,
+                        self.solver.as_ref(),
+                        &options,
+                        &progress,
+                    )
+                    .map(|r| Solved {
+                        report: GuessReport::new(case.guess, &r),
+                        result: r,
+                    }),
+                }
+                .map_err(err)?;
                 (problem, vec![s])
             }
         };
@@ -271,10 +259,7 @@ pub fn check_cases(
     for c in cases {
         GaitProblem::new(model, &c.settings, &predict::bounds_data(&c.settings))
             .map_err(|e| format!("case `{}`: {e}", c.name))?;
-        if !matches!(
-            c.guess,
-            CaseGuess::Continuation(ContinuationKind::FullSolution)
-        ) {
+        if is_presolved(c.guess) {
             predict::presolve_for(presolve_mesh, &c.settings)
                 .map_err(|e| format!("case `{}`: [study.solver] {e}", c.name))?;
         }
