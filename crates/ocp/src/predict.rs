@@ -18,7 +18,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use stride_model::storage::{replace_dir, write_atomic, Storage};
 use stride_model::{Model, MotionType};
-use stride_solve::solver::{ControlFlow, IterationRecord, SolveResult, Solver, SolverOptions};
+use stride_solve::solver::{
+    ControlFlow, HessianMode, IterationRecord, SolveResult, Solver, SolverOptions,
+};
 
 /// Why a prediction failed.
 #[derive(Debug, thiserror::Error)]
@@ -204,18 +206,42 @@ pub const WARM_START_MU: f64 = 1e-4;
 /// Bound push of a solve that starts from an optimum (relative to the bound's magnitude).
 pub const WARM_START_BOUND_PUSH: f64 = 1e-6;
 
+/// Complementarity tolerance of a warm-started exact-Hessian solve, as a fraction of the
+/// requested one: Newton steps from an optimum meet the requested tolerance at μ ≈ 1e-5,
+/// where the barrier still holds the objective ~0.3 % above the optimum that the cold hybrid
+/// solves (μ ≈ 1e-6 when they stop) reach; one decade more costs a few iterations
+/// (decision 0005).
+pub const WARM_START_COMPL_FACTOR: f64 = 0.1;
+
 /// Solver options of a solve that starts from an optimum: the interior point starts on the
 /// central path of a small μ with the variables barely pushed from their bounds instead of
-/// re-centring far from it. Backends that cannot warm start get `options` unchanged (they
-/// still start from the optimum, cold).
+/// re-centring far from it, and a hybrid Hessian becomes the exact Hessian from the first
+/// iteration (the quasi-Newton phase exists to get far from the optimum; near it, it only
+/// delays the Newton steps: 1.33 m/s, 50 intervals, 113 → 69 iterations, 99 → 62 s). An
+/// exact-Hessian warm start ends at a tenth of the requested complementarity tolerance
+/// ([`WARM_START_COMPL_FACTOR`]). Backends that cannot warm start get `options` unchanged
+/// (they still start from the optimum, cold).
 pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> SolverOptions {
     if !solver.supports_warm_start() {
         return options.clone();
     }
+    let hessian = if options.exact_hessian_tail {
+        HessianMode::Exact
+    } else {
+        options.hessian
+    };
+    let exact = matches!(hessian, HessianMode::Exact);
     SolverOptions {
         warm_start: true,
         mu_init: WARM_START_MU,
         bound_push: WARM_START_BOUND_PUSH,
+        hessian,
+        exact_hessian_tail: false,
+        compl_inf_tol: if exact {
+            options.compl_inf_tol * WARM_START_COMPL_FACTOR
+        } else {
+            options.compl_inf_tol
+        },
         ..options.clone()
     }
 }
@@ -336,7 +362,9 @@ pub struct Stage<'a> {
 
 /// Solves `coarse` from its starting point, then `fine` from the resampled coarse optimum
 /// (warm) or, if the coarse solve failed, from `fine.x0` (cold). The time limit of `options`
-/// covers both solves; the report names `guess` and records the coarse solve.
+/// covers both solves; the report names `guess` and records the coarse solve. `progress`
+/// sees one count: the fine solve's iterations numbered after the coarse ones, with the
+/// time since the coarse solve started.
 pub fn solve_presolved(
     coarse: Stage,
     fine: Stage,
@@ -379,7 +407,24 @@ pub fn solve_presolved(
             .map(|t| t.saturating_sub(start.elapsed())),
         ..fine_options
     };
-    let rf = solve_from(fine.problem, fine.tape, x0, solver, &fine_options, progress)?;
+    // progress counts on: the fine iterations after the coarse ones, the time from the start
+    // of the guess (the logs keep each solve's own numbering)
+    let (offset, before) = (r.iterations, start.elapsed());
+    let fine_progress = |rec: &IterationRecord| {
+        progress(&IterationRecord {
+            iter: rec.iter + offset,
+            elapsed: rec.elapsed + before,
+            ..rec.clone()
+        })
+    };
+    let rf = solve_from(
+        fine.problem,
+        fine.tape,
+        x0,
+        solver,
+        &fine_options,
+        &fine_progress,
+    )?;
     let mut solved = Solved {
         report: GuessReport::new(guess, &rf),
         result: rf,
@@ -787,8 +832,13 @@ fn write_cycle(
 
 #[cfg(test)]
 mod tests {
-    use super::{presolve_for, with_threads, Presolve, PRESOLVE_MESH};
+    use super::{
+        presolve_for, warm_start_options, with_threads, Presolve, PRESOLVE_MESH,
+        WARM_START_BOUND_PUSH, WARM_START_MU,
+    };
     use crate::settings::{CycleKind, ProblemSettings};
+    use stride_solve::ipm::InteriorPoint;
+    use stride_solve::solver::{HessianMode, SolverOptions};
 
     fn mesh(n: usize) -> ProblemSettings {
         ProblemSettings {
@@ -839,6 +889,48 @@ mod tests {
             let e = presolve_for(Some(bad), &mesh(n)).unwrap_err().to_string();
             assert!(e.contains(needle), "{e}");
         }
+    }
+
+    #[test]
+    fn a_warm_start_takes_newton_steps_from_the_first_iteration() {
+        let ipm = InteriorPoint::new();
+        let lbfgs = HessianMode::LimitedMemory { history: 6 };
+        let hybrid = SolverOptions {
+            hessian: lbfgs,
+            exact_hessian_tail: true,
+            compl_inf_tol: 1e-4,
+            tol: 1e-4,
+            ..Default::default()
+        };
+        let w = warm_start_options(&ipm, &hybrid);
+        assert!(w.warm_start);
+        assert_eq!(
+            (w.mu_init, w.bound_push),
+            (WARM_START_MU, WARM_START_BOUND_PUSH)
+        );
+        assert_eq!(w.hessian, HessianMode::Exact);
+        assert!(!w.exact_hessian_tail);
+        assert!(
+            (w.compl_inf_tol - 1e-5).abs() < 1e-18,
+            "{}",
+            w.compl_inf_tol
+        );
+        assert_eq!(w.tol, 1e-4);
+        // an explicit limited-memory Hessian is kept, with its tolerance
+        let plain = SolverOptions {
+            exact_hessian_tail: false,
+            ..hybrid.clone()
+        };
+        let w = warm_start_options(&ipm, &plain);
+        assert_eq!((w.hessian, w.compl_inf_tol), (lbfgs, 1e-4));
+        // an explicit exact Hessian: the tighter complementarity too
+        let exact = SolverOptions {
+            hessian: HessianMode::Exact,
+            ..plain
+        };
+        let w = warm_start_options(&ipm, &exact);
+        assert_eq!(w.hessian, HessianMode::Exact);
+        assert!(w.compl_inf_tol < 1.01e-5);
     }
 
     #[test]
