@@ -398,24 +398,6 @@ fn layout_dims(l: &Layout) -> [usize; 4] {
     [l.n, l.nm, l.nq, l.na]
 }
 
-/// Linear interpolation of samples `(t, y)` (times non-decreasing) at `t`, constant
-/// beyond the first and last sample; at a repeated time the later sample wins.
-fn interpolate(samples: &[(f64, f64)], t: f64) -> f64 {
-    let i = samples.partition_point(|&(ts, _)| ts <= t);
-    if i == 0 {
-        return samples[0].1;
-    }
-    if i == samples.len() {
-        return samples[i - 1].1;
-    }
-    let ((t0, y0), (t1, y1)) = (samples[i - 1], samples[i]);
-    if t1 > t0 {
-        y0 + (y1 - y0) * (t - t0) / (t1 - t0)
-    } else {
-        y1
-    }
-}
-
 /// Time of point `p` as a fraction of the duration (0 at mesh point 0, 1 at mesh point N).
 fn point_time(l: &Layout, p: Point) -> f64 {
     let tau = crate::radau::points();
@@ -437,62 +419,81 @@ fn state_points(l: &Layout) -> Vec<Point> {
     pts
 }
 
+/// Source interval of `l` that holds normalised time `t` (the last one for t = 1), and the
+/// local time in it (0 at its start, 1 at its end).
+fn locate(l: &Layout, t: f64) -> (usize, f64) {
+    let s = t * l.n as f64;
+    let k = (s.max(0.0).floor() as usize).min(l.n - 1);
+    (k, s - k as f64)
+}
+
 /// The NLP vector `x` of layout `from` carried to layout `to` (same muscles, coordinates
-/// and arm actuators, any number of mesh intervals) in normalised time: states linearly
-/// between the source's mesh and collocation points (the final mesh point copied, so a
-/// symmetric half cycle stays closed), collocation-point controls linearly between the
-/// source's collocation points, interval controls from the source interval holding the
-/// target interval's midpoint, t_f unchanged. Linear interpolation keeps every value
-/// within the bounds its samples satisfy.
+/// and arm actuators, any number of mesh intervals) in normalised time, following the
+/// source's own collocation polynomials: states from the cubic of the source interval
+/// through its mesh and collocation points, collocation-point controls (tendon-force rates,
+/// accelerations) from the quadratic through the interval's three collocation points (the
+/// derivative of that cubic at a solution), interval controls (activation rates, arm
+/// excitations) from the source interval holding the target interval's midpoint, the final
+/// mesh point copied (so a symmetric half cycle stays closed), t_f unchanged. A target
+/// interval inside one source interval then meets the collocation equations of the
+/// activations, tendon forces and speeds exactly; the remaining violation is the dynamics
+/// at the new points. The collocation points of a target interval use the source interval
+/// of its midpoint, so a polynomial is never evaluated across a source mesh point there.
+/// Values between samples may pass a bound the samples meet (a polynomial's extremum); the
+/// solver's bound push moves them back.
 pub fn resample_solution(from: &Layout, x: &[f64], to: &Layout) -> Vec<f64> {
     let mut out = vec![0.0; to.len()];
     out[to.tf()] = x[from.tf()];
-    let (src_pts, dst_pts) = (state_points(from), state_points(to));
-    let src_times: Vec<f64> = src_pts.iter().map(|&p| point_time(from, p)).collect();
-    let mut samples = Vec::with_capacity(src_pts.len());
-    for s in 0..from.n_states() {
-        samples.clear();
-        samples.extend(
-            src_pts
-                .iter()
-                .zip(&src_times)
-                .map(|(&p, &t)| (t, x[from.state(p, s)])),
-        );
-        for &p in &dst_pts {
-            out[to.state(p, s)] = match p {
-                Point::Mesh(k) if k == to.n => x[from.state(Point::Mesh(from.n), s)],
-                _ => interpolate(&samples, point_time(to, p)),
-            };
-        }
-    }
-    let cols = |l: &Layout| -> Vec<(usize, usize, f64)> {
-        (0..l.n)
-            .flat_map(|k| (1..=3).map(move |j| (k, j)))
-            .map(|(k, j)| (k, j, point_time(l, Point::Col(k, j))))
-            .collect()
+    let source_points = |k: usize| {
+        [
+            Point::Mesh(k),
+            Point::Col(k, 1),
+            Point::Col(k, 2),
+            Point::Col(k, 3),
+        ]
     };
-    let (src_cols, dst_cols) = (cols(from), cols(to));
-    type ColIndex = fn(&Layout, usize, usize, usize) -> usize;
-    let per_col: [(usize, ColIndex); 2] = [(from.nm, Layout::u_df), (from.nq, Layout::u_dv)];
-    for (width, index) in per_col {
-        for i in 0..width {
-            samples.clear();
-            samples.extend(
-                src_cols
-                    .iter()
-                    .map(|&(k, j, t)| (t, x[index(from, k, j, i)])),
-            );
-            for &(k, j, t) in &dst_cols {
-                out[index(to, k, j, i)] = interpolate(&samples, t);
+    // (source interval, local time) of a target point
+    let place = |p: Point| -> (usize, f64) {
+        let t = point_time(to, p);
+        match p {
+            Point::Mesh(_) => locate(from, t),
+            Point::Col(k, _) => {
+                let (ks, _) = locate(from, (k as f64 + 0.5) / to.n as f64);
+                (ks, t * from.n as f64 - ks as f64)
             }
         }
+    };
+    for p in state_points(to) {
+        if p == Point::Mesh(to.n) {
+            for s in 0..to.n_states() {
+                out[to.state(p, s)] = x[from.state(Point::Mesh(from.n), s)];
+            }
+            continue;
+        }
+        let (ks, tau) = place(p);
+        let w = crate::radau::state_weights(tau);
+        let src = source_points(ks);
+        for s in 0..to.n_states() {
+            out[to.state(p, s)] = (0..4).map(|r| w[r] * x[from.state(src[r], s)]).sum();
+        }
     }
+    type ColIndex = fn(&Layout, usize, usize, usize) -> usize;
+    let per_col: [(usize, ColIndex); 2] = [(from.nm, Layout::u_df), (from.nq, Layout::u_dv)];
     type IntervalIndex = fn(&Layout, usize, usize) -> usize;
     let per_interval: [(usize, IntervalIndex); 2] =
         [(from.nm, Layout::u_da), (from.na, Layout::e_arm)];
     for k in 0..to.n {
-        let mid = (k as f64 + 0.5) / to.n as f64;
-        let ks = ((mid * from.n as f64) as usize).min(from.n - 1);
+        for j in 1..=3 {
+            let (ks, tau) = place(Point::Col(k, j));
+            let w = crate::radau::collocation_weights(tau);
+            for (width, index) in per_col {
+                for i in 0..width {
+                    out[index(to, k, j, i)] =
+                        (0..3).map(|r| w[r] * x[index(from, ks, r + 1, i)]).sum();
+                }
+            }
+        }
+        let (ks, _) = locate(from, (k as f64 + 0.5) / to.n as f64);
         for (width, index) in per_interval {
             for i in 0..width {
                 out[index(to, k, i)] = x[index(from, ks, i)];
@@ -691,99 +692,135 @@ mod continuation_tests {
     /// A vector whose every variable is an affine function of normalised time (states at
     /// their points, collocation controls at their points, interval controls constant per
     /// interval of the source) on layout `l`.
-    fn affine_in_time(l: &Layout) -> Vec<f64> {
+    /// Values of kind `kind`, component `i`: a cubic in normalised time `t`.
+    fn cubic(kind: usize, i: usize, t: f64) -> f64 {
+        let (a, b) = (0.1 * (kind + 1) as f64, 1e-3 * i as f64);
+        a + b + (0.5 - 0.01 * i as f64) * t - 0.7 * t * t + (0.3 + b) * t * t * t
+    }
+
+    /// The derivative in t of any kind's cubic of component `i`.
+    fn cubic_rate(i: usize, t: f64) -> f64 {
+        let b = 1e-3 * i as f64;
+        (0.5 - 0.01 * i as f64) - 1.4 * t + 3.0 * (0.3 + b) * t * t
+    }
+
+    /// A point of layout `l` whose states are cubics in time, whose collocation controls are
+    /// their (quadratic) rates and whose interval controls are numbered by interval.
+    fn cubic_in_time(l: &Layout) -> Vec<f64> {
         let mut x = vec![0.0; l.len()];
         x[l.tf()] = 0.55;
-        let value = |kind: usize, i: usize, t: f64| {
-            0.1 * (kind + 1) as f64 + 1e-3 * i as f64 + (0.5 - 0.01 * i as f64) * t
-        };
         for p in state_points(l) {
             for s in 0..l.n_states() {
-                x[l.state(p, s)] = value(0, s, point_time(l, p));
+                x[l.state(p, s)] = cubic(0, s, point_time(l, p));
             }
         }
         for k in 0..l.n {
             for j in 1..=3 {
                 let t = point_time(l, Point::Col(k, j));
                 for m in 0..l.nm {
-                    x[l.u_df(k, j, m)] = value(1, m, t);
+                    x[l.u_df(k, j, m)] = cubic_rate(m, t);
                 }
                 for i in 0..l.nq {
-                    x[l.u_dv(k, j, i)] = value(2, i, t);
+                    x[l.u_dv(k, j, i)] = cubic_rate(i, t);
                 }
             }
             for m in 0..l.nm {
-                x[l.u_da(k, m)] = value(3, m, k as f64);
+                x[l.u_da(k, m)] = (100 * k + m) as f64;
             }
             for i in 0..l.na {
-                x[l.e_arm(k, i)] = value(4, i, k as f64);
+                x[l.e_arm(k, i)] = (100 * k + 50 + i) as f64;
             }
         }
         x
     }
 
     #[test]
-    fn resampling_reproduces_affine_trajectories_on_another_mesh() {
-        let (from, to) = (Layout::new(10, 3, 4, 2), Layout::new(25, 3, 4, 2));
-        let x = affine_in_time(&from);
-        let y = resample_solution(&from, &x, &to);
-        assert_eq!(y.len(), to.len());
-        assert_eq!(y[to.tf()], 0.55);
-        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
-        let expect = affine_in_time(&to);
-        // states: exact at every point (linear interpolation of an affine function)
-        for p in state_points(&to) {
-            for s in 0..to.n_states() {
-                assert!(
-                    close(y[to.state(p, s)], expect[to.state(p, s)]),
-                    "{p:?} state {s}"
-                );
-            }
-        }
-        // collocation controls: exact between the source's first and last collocation
-        // points, constant (the end sample) outside
-        let tau = crate::radau::points();
-        let (first, last) = (tau[1] / 10.0, 1.0);
-        for k in 0..to.n {
-            for j in 1..=3 {
-                let t = point_time(&to, Point::Col(k, j));
-                let at = t.clamp(first, last);
-                for i in 0..to.nq {
-                    let want = 0.1 * 3.0 + 1e-3 * i as f64 + (0.5 - 0.01 * i as f64) * at;
+    fn resampling_reproduces_cubic_trajectories_on_another_mesh() {
+        // a cubic state and its quadratic rate are what one collocation interval holds, so
+        // a trajectory that is one cubic throughout is carried to any mesh exactly
+        for (nf, nt) in [(10, 25), (10, 50), (7, 3), (4, 9)] {
+            let (from, to) = (Layout::new(nf, 3, 4, 2), Layout::new(nt, 3, 4, 2));
+            let x = cubic_in_time(&from);
+            let y = resample_solution(&from, &x, &to);
+            assert_eq!(y.len(), to.len());
+            assert_eq!(y[to.tf()], 0.55);
+            let expect = cubic_in_time(&to);
+            let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+            for p in state_points(&to) {
+                for s in 0..to.n_states() {
+                    let (got, want) = (y[to.state(p, s)], expect[to.state(p, s)]);
                     assert!(
-                        close(y[to.u_dv(k, j, i)], want),
-                        "u_dv ({k},{j}) {i} at {t}"
+                        close(got, want),
+                        "{nf}→{nt} {p:?} state {s}: {got} vs {want}"
                     );
                 }
             }
-            // interval controls from the source interval holding the target midpoint
-            let ks = (((k as f64 + 0.5) / 25.0) * 10.0) as usize;
-            for m in 0..to.nm {
-                assert_eq!(y[to.u_da(k, m)], x[from.u_da(ks, m)]);
-            }
-            for i in 0..to.na {
-                assert_eq!(y[to.e_arm(k, i)], x[from.e_arm(ks, i)]);
-            }
-        }
-        // a coarser target too, and the round trip to the same mesh keeps the states
-        let back = resample_solution(&to, &y, &from);
-        for p in state_points(&from) {
-            for s in 0..from.n_states() {
-                assert!(close(back[from.state(p, s)], x[from.state(p, s)]));
+            for k in 0..to.n {
+                for j in 1..=3 {
+                    for i in 0..to.nq {
+                        assert!(close(y[to.u_dv(k, j, i)], expect[to.u_dv(k, j, i)]));
+                    }
+                    for m in 0..to.nm {
+                        assert!(close(y[to.u_df(k, j, m)], expect[to.u_df(k, j, m)]));
+                    }
+                }
+                // interval controls from the source interval holding the target midpoint
+                let ks = ((k as f64 + 0.5) / nt as f64 * nf as f64) as usize;
+                for m in 0..to.nm {
+                    assert_eq!(y[to.u_da(k, m)], x[from.u_da(ks, m)]);
+                }
+                for i in 0..to.na {
+                    assert_eq!(y[to.e_arm(k, i)], x[from.e_arm(ks, i)]);
+                }
             }
         }
     }
 
     #[test]
-    fn resampling_keeps_values_within_the_range_of_their_samples() {
-        // linear interpolation is a convex combination: a bound met by every source value
-        // is met by every resampled value
-        let (from, to) = (Layout::new(7, 2, 3, 1), Layout::new(30, 2, 3, 1));
+    fn resampling_a_piecewise_trajectory_follows_each_interval_and_keeps_the_end() {
+        // Independent samples per interval (no common polynomial): a target point inside a
+        // source interval takes that interval's cubic, so a target on a refined mesh whose
+        // intervals nest in the source's reproduces the source at its own points; the last
+        // mesh point is the source's last, whatever the polynomial gives there.
+        let (from, to) = (Layout::new(5, 2, 3, 1), Layout::new(15, 2, 3, 1));
         let x: Vec<f64> = (0..from.len())
             .map(|i| ((i * 7919) % 101) as f64 / 100.0)
             .collect();
         let y = resample_solution(&from, &x, &to);
-        assert!(y.iter().all(|&v| (0.0..=1.0).contains(&v)));
+        let tau = crate::radau::points();
+        for ks in 0..from.n {
+            for s in 0..from.n_states() {
+                // source mesh point ks is target mesh point 3 ks
+                assert!(
+                    (y[to.state(Point::Mesh(3 * ks), s)] - x[from.state(Point::Mesh(ks), s)]).abs()
+                        < 1e-12
+                );
+            }
+        }
+        for s in 0..from.n_states() {
+            assert_eq!(
+                y[to.state(Point::Mesh(to.n), s)],
+                x[from.state(Point::Mesh(from.n), s)]
+            );
+            // a target collocation point in source interval 2, evaluated by hand
+            let t = point_time(&to, Point::Col(7, 2)) * 5.0 - 2.0;
+            let src = [
+                Point::Mesh(2),
+                Point::Col(2, 1),
+                Point::Col(2, 2),
+                Point::Col(2, 3),
+            ];
+            let want: f64 = (0..4)
+                .map(|r| {
+                    let l: f64 = (0..4)
+                        .filter(|&q| q != r)
+                        .map(|q| (t - tau[q]) / (tau[r] - tau[q]))
+                        .product();
+                    l * x[from.state(src[r], s)]
+                })
+                .sum();
+            assert!((y[to.state(Point::Col(7, 2), s)] - want).abs() < 1e-12);
+        }
     }
 
     #[test]

@@ -47,6 +47,25 @@ pub fn collocation_matrix() -> [[f64; 3]; 4] {
     c
 }
 
+/// Weights of the four state samples of an interval (at `points()`) in the value of its
+/// cubic state polynomial at local time `t` (0 at the interval's start, 1 at its end).
+pub fn state_weights(t: f64) -> [f64; 4] {
+    [0, 1, 2, 3].map(|r| lagrange(r, t))
+}
+
+/// Weights of the three collocation-point samples of an interval (at `points()[1..]`) in the
+/// value at local time `t` of the quadratic through them (the derivative of a cubic state
+/// polynomial is such a quadratic).
+pub fn collocation_weights(t: f64) -> [f64; 3] {
+    let p = points();
+    [1, 2, 3].map(|r| {
+        (1..4)
+            .filter(|&k| k != r)
+            .map(|k| (t - p[k]) / (p[r] - p[k]))
+            .product()
+    })
+}
+
 /// Quadrature weights `B_j = ∫₀¹ ℓ_j` for j = 1..3 (B_0 = 0 for Radau).
 pub fn quadrature_weights() -> [f64; 3] {
     // Gauss–Legendre with 3 nodes integrates the cubic ℓ_j exactly.
