@@ -407,18 +407,6 @@ fn point_time(l: &Layout, p: Point) -> f64 {
     }
 }
 
-/// Every state point of `l` in time order: per interval its mesh point and its three
-/// collocation points, then the final mesh point.
-fn state_points(l: &Layout) -> Vec<Point> {
-    let mut pts = Vec::with_capacity(4 * l.n + 1);
-    for k in 0..l.n {
-        pts.push(Point::Mesh(k));
-        pts.extend((1..=3).map(|j| Point::Col(k, j)));
-    }
-    pts.push(Point::Mesh(l.n));
-    pts
-}
-
 /// Source interval of `l` that holds normalised time `t` (the last one for t = 1), and the
 /// local time in it (0 at its start, 1 at its end).
 fn locate(l: &Layout, t: f64) -> (usize, f64) {
@@ -452,30 +440,20 @@ pub fn resample_solution(from: &Layout, x: &[f64], to: &Layout) -> Vec<f64> {
             Point::Col(k, 3),
         ]
     };
-    // (source interval, local time) of a target point
-    let place = |p: Point| -> (usize, f64) {
-        let t = point_time(to, p);
-        match p {
-            Point::Mesh(_) => locate(from, t),
-            Point::Col(k, _) => {
-                let (ks, _) = locate(from, (k as f64 + 0.5) / to.n as f64);
-                (ks, t * from.n as f64 - ks as f64)
-            }
-        }
-    };
-    for p in state_points(to) {
-        if p == Point::Mesh(to.n) {
-            for s in 0..to.n_states() {
-                out[to.state(p, s)] = x[from.state(Point::Mesh(from.n), s)];
-            }
-            continue;
-        }
-        let (ks, tau) = place(p);
+    let put_states = |out: &mut [f64], p: Point, ks: usize, tau: f64| {
         let w = crate::radau::state_weights(tau);
         let src = source_points(ks);
         for s in 0..to.n_states() {
             out[to.state(p, s)] = (0..4).map(|r| w[r] * x[from.state(src[r], s)]).sum();
         }
+    };
+    // mesh points: the source interval holding them; the last one copied
+    for k in 0..to.n {
+        let (ks, tau) = locate(from, k as f64 / to.n as f64);
+        put_states(&mut out, Point::Mesh(k), ks, tau);
+    }
+    for s in 0..to.n_states() {
+        out[to.state(Point::Mesh(to.n), s)] = x[from.state(Point::Mesh(from.n), s)];
     }
     type ColIndex = fn(&Layout, usize, usize, usize) -> usize;
     let per_col: [(usize, ColIndex); 2] = [(from.nm, Layout::u_df), (from.nq, Layout::u_dv)];
@@ -483,8 +461,11 @@ pub fn resample_solution(from: &Layout, x: &[f64], to: &Layout) -> Vec<f64> {
     let per_interval: [(usize, IntervalIndex); 2] =
         [(from.nm, Layout::u_da), (from.na, Layout::e_arm)];
     for k in 0..to.n {
+        // everything inside a target interval comes from the source interval of its midpoint
+        let (ks, _) = locate(from, (k as f64 + 0.5) / to.n as f64);
         for j in 1..=3 {
-            let (ks, tau) = place(Point::Col(k, j));
+            let tau = point_time(to, Point::Col(k, j)) * from.n as f64 - ks as f64;
+            put_states(&mut out, Point::Col(k, j), ks, tau);
             let w = crate::radau::collocation_weights(tau);
             for (width, index) in per_col {
                 for i in 0..width {
@@ -493,7 +474,6 @@ pub fn resample_solution(from: &Layout, x: &[f64], to: &Layout) -> Vec<f64> {
                 }
             }
         }
-        let (ks, _) = locate(from, (k as f64 + 0.5) / to.n as f64);
         for (width, index) in per_interval {
             for i in 0..width {
                 out[index(to, k, i)] = x[index(from, ks, i)];
@@ -625,6 +605,18 @@ mod continuation_tests {
     use super::*;
     use crate::problem::GaitProblem;
 
+    /// Every state point of `l` in time order: per interval its mesh point and its three
+    /// collocation points, then the final mesh point.
+    fn state_points(l: &Layout) -> Vec<Point> {
+        let mut pts = Vec::with_capacity(4 * l.n + 1);
+        for k in 0..l.n {
+            pts.push(Point::Mesh(k));
+            pts.extend((1..=3).map(|j| Point::Col(k, j)));
+        }
+        pts.push(Point::Mesh(l.n));
+        pts
+    }
+
     fn problem(speed: f64) -> GaitProblem {
         let settings = ProblemSettings {
             speed,
@@ -689,9 +681,6 @@ mod continuation_tests {
         assert!(e.to_string().contains("half"), "{e}");
     }
 
-    /// A vector whose every variable is an affine function of normalised time (states at
-    /// their points, collocation controls at their points, interval controls constant per
-    /// interval of the source) on layout `l`.
     /// Values of kind `kind`, component `i`: a cubic in normalised time `t`.
     fn cubic(kind: usize, i: usize, t: f64) -> f64 {
         let (a, b) = (0.1 * (kind + 1) as f64, 1e-3 * i as f64);

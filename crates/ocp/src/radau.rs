@@ -7,13 +7,17 @@ pub fn points() -> [f64; 4] {
     [0.0, (4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0]
 }
 
+/// The Lagrange basis polynomial ℓ_r through the nodes `nodes` evaluated at `t`.
+fn basis(nodes: &[f64], r: usize, t: f64) -> f64 {
+    (0..nodes.len())
+        .filter(|&k| k != r)
+        .map(|k| (t - nodes[k]) / (nodes[r] - nodes[k]))
+        .product()
+}
+
 /// The Lagrange basis polynomial ℓ_r through `points()` evaluated at `t`.
 fn lagrange(r: usize, t: f64) -> f64 {
-    let p = points();
-    (0..4)
-        .filter(|&k| k != r)
-        .map(|k| (t - p[k]) / (p[r] - p[k]))
-        .product()
+    basis(&points(), r, t)
 }
 
 /// Derivative of ℓ_r at `t`.
@@ -58,12 +62,7 @@ pub fn state_weights(t: f64) -> [f64; 4] {
 /// polynomial is such a quadratic).
 pub fn collocation_weights(t: f64) -> [f64; 3] {
     let p = points();
-    [1, 2, 3].map(|r| {
-        (1..4)
-            .filter(|&k| k != r)
-            .map(|k| (t - p[k]) / (p[r] - p[k]))
-            .product()
-    })
+    [0, 1, 2].map(|r| basis(&p[1..], r, t))
 }
 
 /// Quadrature weights `B_j = ∫₀¹ ℓ_j` for j = 1..3 (B_0 = 0 for Radau).
