@@ -219,7 +219,8 @@ pub const WARM_START_COMPL_FACTOR: f64 = 0.1;
 /// iteration (the quasi-Newton phase exists to get far from the optimum; near it, it only
 /// delays the Newton steps: 1.33 m/s, 50 intervals, 113 → 69 iterations, 99 → 62 s). An
 /// exact-Hessian warm start ends at a tenth of the requested complementarity tolerance
-/// ([`WARM_START_COMPL_FACTOR`]). Backends that cannot warm start get `options` unchanged
+/// ([`WARM_START_COMPL_FACTOR`]); a hybrid turned exact drops its centrality correctors.
+/// Backends that cannot warm start get `options` unchanged
 /// (they still start from the optimum, cold).
 pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> SolverOptions {
     if !solver.supports_warm_start() {
@@ -237,6 +238,14 @@ pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> Solve
         bound_push: WARM_START_BOUND_PUSH,
         hessian,
         exact_hessian_tail: false,
+        // the hybrid's correctors pay in its limited-memory phase (one more column of a
+        // 14-column block solve); a Newton step's corrector costs a refined solve of its own
+        // (~8 % of an iteration) and saves fewer iterations than that (decision 0005)
+        centrality_correctors: if options.exact_hessian_tail {
+            0
+        } else {
+            options.centrality_correctors
+        },
         compl_inf_tol: if exact {
             options.compl_inf_tol * WARM_START_COMPL_FACTOR
         } else {
@@ -374,15 +383,21 @@ pub fn solve_presolved(
     progress: &(dyn Fn(&IterationRecord) + Sync),
 ) -> Result<Solved, PredictError> {
     let start = std::time::Instant::now();
+    // the coarse optimum is only a starting point: a hybrid solve stops where μ reaches
+    // its floor instead of converging in exact-Hessian steps (decision 0005)
+    let coarse_options = SolverOptions {
+        stop_at_mu_floor: options.exact_hessian_tail,
+        ..options.clone()
+    };
     let r = solve_from(
         coarse.problem,
         coarse.tape,
         coarse.x0,
         solver,
-        options,
+        &coarse_options,
         progress,
     )?;
-    let used = r.status.is_success();
+    let used = r.status.is_usable_start();
     let (x0, fine_options) = if used {
         let x = fine
             .problem
@@ -898,12 +913,14 @@ mod tests {
         let hybrid = SolverOptions {
             hessian: lbfgs,
             exact_hessian_tail: true,
+            centrality_correctors: 2,
             compl_inf_tol: 1e-4,
             tol: 1e-4,
             ..Default::default()
         };
         let w = warm_start_options(&ipm, &hybrid);
         assert!(w.warm_start);
+        assert_eq!(w.centrality_correctors, 0);
         assert_eq!(
             (w.mu_init, w.bound_push),
             (WARM_START_MU, WARM_START_BOUND_PUSH)
@@ -923,6 +940,7 @@ mod tests {
         };
         let w = warm_start_options(&ipm, &plain);
         assert_eq!((w.hessian, w.compl_inf_tol), (lbfgs, 1e-4));
+        assert_eq!(w.centrality_correctors, 2);
         // an explicit exact Hessian: the tighter complementarity too
         let exact = SolverOptions {
             hessian: HessianMode::Exact,

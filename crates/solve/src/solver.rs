@@ -134,6 +134,11 @@ pub struct SolverOptions {
     /// Pure-Rust interior point with the limited-memory Hessian: switch to the exact
     /// Hessian once μ has reached its floor (default false; the IPOPT backend ignores it).
     pub exact_hessian_tail: bool,
+    /// Pure-Rust interior point with the limited-memory Hessian: end the solve with
+    /// [`SolveStatus::MuFloor`] once μ has reached its floor, instead of converging the
+    /// quasi-Newton model or switching to the exact Hessian (default false): the coarse
+    /// stage of mesh sequencing only needs a starting point (the IPOPT backend ignores it).
+    pub stop_at_mu_floor: bool,
     /// Pure-Rust interior point: at most this many centrality correctors (Gondzio) per
     /// iteration, each one more solve with the iteration's factorisation, kept when it
     /// lengthens the fraction-to-boundary step (default 0; the IPOPT backend ignores it).
@@ -196,6 +201,7 @@ impl Default for SolverOptions {
             watchdog_trigger: 10,
             kkt_ordering: KktOrdering::Auto,
             exact_hessian_tail: false,
+            stop_at_mu_floor: false,
             centrality_correctors: 0,
             nlp_scaling: true,
             nlp_scaling_max_gradient: 100.0,
@@ -227,12 +233,21 @@ pub enum SolveStatus {
     Diverging,
     /// Any other failure, with a reason.
     Failed(String),
+    /// μ reached its floor with the limited-memory Hessian and the solve stopped there, as
+    /// asked (`SolverOptions::stop_at_mu_floor`): near an optimum, not converged to `tol`.
+    MuFloor,
 }
 
 impl SolveStatus {
     /// Whether the status counts as converged (Optimal or Acceptable).
     pub fn is_success(&self) -> bool {
         matches!(self, SolveStatus::Optimal | SolveStatus::Acceptable)
+    }
+
+    /// Whether the point is good enough to start a finer or neighbouring problem from
+    /// (converged, or stopped at the μ floor on request).
+    pub fn is_usable_start(&self) -> bool {
+        self.is_success() || matches!(self, SolveStatus::MuFloor)
     }
 }
 

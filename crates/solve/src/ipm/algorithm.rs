@@ -1393,9 +1393,13 @@ pub fn solve(
         // Once μ has sat at its floor for a few iterations only the quasi-Newton model is
         // left to converge, which takes hundreds of iterations on the gait problem; from
         // there the exact Hessian's Newton steps are used (the KKT matrix gets the Hessian
-        // pattern and a new symbolic analysis).
-        if options.exact_hessian_tail && !exact {
+        // pattern and a new symbolic analysis). With `stop_at_mu_floor` the solve ends there.
+        if (options.exact_hessian_tail || options.stop_at_mu_floor) && !exact {
             floor_iters = if mu <= mu_floor { floor_iters + 1 } else { 0 };
+            if floor_iters >= EXACT_TAIL_AFTER && options.stop_at_mu_floor {
+                status = SolveStatus::MuFloor;
+                break;
+            }
             if floor_iters >= EXACT_TAIL_AFTER {
                 let t = Instant::now();
                 exact = true;

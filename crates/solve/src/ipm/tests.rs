@@ -328,6 +328,48 @@ fn exact_hessian_tail_reaches_the_exact_hessian_optimum_in_fewer_iterations() {
 }
 
 #[test]
+fn stop_at_mu_floor_ends_where_the_exact_tail_would_start() {
+    // The stop comes at the iteration where the hybrid switches to the exact Hessian, at
+    // the same point, near the optimum but before converging.
+    let p = PendulumChain::new(3, 40);
+    let hybrid = SolverOptions {
+        tol: 1e-8,
+        max_iter: 1000,
+        mu_strategy: MuStrategy::Adaptive,
+        hessian: HessianMode::LimitedMemory { history: 6 },
+        exact_hessian_tail: true,
+        ..SolverOptions::default()
+    };
+    let full = run(&p, &hybrid);
+    let k = full.exact_hessian_from.expect("hybrid switches");
+    for tail in [true, false] {
+        let stopped = run(
+            &p,
+            &SolverOptions {
+                stop_at_mu_floor: true,
+                exact_hessian_tail: tail,
+                ..hybrid.clone()
+            },
+        );
+        assert_eq!(stopped.status, SolveStatus::MuFloor);
+        assert!(stopped.status.is_usable_start() && !stopped.status.is_success());
+        assert_eq!(stopped.iterations, k, "stopped at the switch");
+        assert_eq!(stopped.exact_hessian_from, None);
+        assert!(stopped.log.last().unwrap().mu <= 1e-8);
+        let rel = (stopped.objective - full.objective).abs() / full.objective;
+        assert!(rel < 1e-2, "{} vs {}", stopped.objective, full.objective);
+    }
+    // an exact-Hessian solve ignores it
+    let exact = SolverOptions {
+        hessian: HessianMode::Exact,
+        stop_at_mu_floor: true,
+        exact_hessian_tail: false,
+        ..hybrid
+    };
+    assert_eq!(run(&p, &exact).status, SolveStatus::Optimal);
+}
+
+#[test]
 fn collocation_cost_converges_with_mesh_refinement() {
     // Radau IIA (order 5) cost must agree closely between N = 40 and N = 80.
     let a = run(&PendulumChain::new(2, 40), &SolverOptions::default());
