@@ -189,12 +189,29 @@ pub fn run_study(
     })
 }
 
-/// Pick the next case whose sources are all finished.
-fn next_ready(sh: &Shared, cases: &[Case]) -> Option<usize> {
-    (0..cases.len()).find(|&i| {
-        sh.state[i] == State::Pending
-            && cases[i].sources.iter().all(|&s| sh.state[s] == State::Done)
-    })
+/// Length of the longest continuation chain that starts at each case (the case and the
+/// cases that wait for it, transitively; 1 for a case nothing waits for). Sources come
+/// before their dependants in the case list.
+pub fn chain_lengths(cases: &[Case]) -> Vec<usize> {
+    let mut len = vec![1usize; cases.len()];
+    for j in (0..cases.len()).rev() {
+        for &s in &cases[j].sources {
+            len[s] = len[s].max(len[j] + 1);
+        }
+    }
+    len
+}
+
+/// Pick the next case whose sources are all finished: the one that starts the longest
+/// chain of waiting cases (so that a continuation chain, which runs one case at a time,
+/// does not end up alone at the end of the study), the first in the list among equals.
+fn next_ready(sh: &Shared, cases: &[Case], chain: &[usize]) -> Option<usize> {
+    (0..cases.len())
+        .filter(|&i| {
+            sh.state[i] == State::Pending
+                && cases[i].sources.iter().all(|&s| sh.state[s] == State::Done)
+        })
+        .min_by_key(|&i| (std::cmp::Reverse(chain[i]), i))
 }
 
 fn worker(
@@ -207,6 +224,7 @@ fn worker(
     wake: &Condvar,
 ) {
     let cases = &study.cases;
+    let chain = chain_lengths(cases);
     loop {
         // Take a ready case (or stop when nothing is left).
         let (i, source) = {
@@ -215,7 +233,7 @@ fn worker(
                 if sh.error.is_some() {
                     return;
                 }
-                if let Some(i) = next_ready(&sh, cases) {
+                if let Some(i) = next_ready(&sh, cases, &chain) {
                     sh.state[i] = State::Running;
                     sh.running += 1;
                     sh.started[i] = Some(Instant::now());

@@ -168,6 +168,32 @@ fn expansion_names_cases_and_orders_continuation_chains() {
 }
 
 #[test]
+fn cases_that_start_the_longest_chains_run_first() {
+    let out = temp("chains");
+    let study = spec::parse(SMALL, Path::new("small.toml")).unwrap();
+    let chain = stride_study::runner::chain_lengths(&study.cases);
+    let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
+    let len = |n: &str| chain[names.iter().position(|x| *x == n).unwrap()];
+    // 1.33 → 1.43 → 2.33 and 1.33 → 1.23 → 1.13 (fos and pos chains alike)
+    assert_eq!(len("speed_1.33__nominal__qr"), 3);
+    assert_eq!(len("speed_1.43__hip50__pos"), 2);
+    assert_eq!(len("speed_1.23__nominal__fos"), 2);
+    assert_eq!(len("speed_2.33__nominal__fos"), 1);
+    assert_eq!(len("speed_1.13__nominal__qr"), 1);
+    // one case at a time: the four anchors, then the eight middle links of the chains,
+    // then everything else (in list order the standard cases of 1.13 m/s came first)
+    let store = Store::open(&out, &study, false).unwrap();
+    let fake = Fake::new();
+    run_study(&study, &store, &fake, &opts(1)).unwrap();
+    let calls = fake.calls.lock().unwrap().clone();
+    let order: Vec<usize> = calls.iter().map(|c| len(&c.0)).collect();
+    assert_eq!(order[..4], [3; 4], "{calls:?}");
+    assert_eq!(order[4..12], [2; 8], "{calls:?}");
+    assert!(order[12..].iter().all(|&l| l == 1));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
 fn typos_and_bad_values_are_errors_naming_file_case_and_key() {
     let e = spec::parse(
         "[study]\nname='x'\noutput='o'\n[base]\nsped = 1.0\n",
