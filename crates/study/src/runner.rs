@@ -73,6 +73,8 @@ struct Shared {
     iterations: Vec<usize>,
     /// Set when every worker has stopped.
     finished: bool,
+    /// Longest chain of waiting cases that each case starts ([`chain_lengths`]).
+    chain: Vec<usize>,
 }
 
 fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
@@ -154,6 +156,7 @@ pub fn run_study(
         ran: 0,
         time_spent: Duration::ZERO,
         error: None,
+        chain: chain_lengths(cases),
     });
     let wake = Condvar::new();
     let jobs = opts.jobs.max(1);
@@ -205,13 +208,13 @@ pub fn chain_lengths(cases: &[Case]) -> Vec<usize> {
 /// Pick the next case whose sources are all finished: the one that starts the longest
 /// chain of waiting cases (so that a continuation chain, which runs one case at a time,
 /// does not end up alone at the end of the study), the first in the list among equals.
-fn next_ready(sh: &Shared, cases: &[Case], chain: &[usize]) -> Option<usize> {
+fn next_ready(sh: &Shared, cases: &[Case]) -> Option<usize> {
     (0..cases.len())
         .filter(|&i| {
             sh.state[i] == State::Pending
                 && cases[i].sources.iter().all(|&s| sh.state[s] == State::Done)
         })
-        .min_by_key(|&i| (std::cmp::Reverse(chain[i]), i))
+        .min_by_key(|&i| (std::cmp::Reverse(sh.chain[i]), i))
 }
 
 fn worker(
@@ -224,7 +227,6 @@ fn worker(
     wake: &Condvar,
 ) {
     let cases = &study.cases;
-    let chain = chain_lengths(cases);
     loop {
         // Take a ready case (or stop when nothing is left).
         let (i, source) = {
@@ -233,7 +235,7 @@ fn worker(
                 if sh.error.is_some() {
                     return;
                 }
-                if let Some(i) = next_ready(&sh, cases, &chain) {
+                if let Some(i) = next_ready(&sh, cases) {
                     sh.state[i] = State::Running;
                     sh.running += 1;
                     sh.started[i] = Some(Instant::now());

@@ -1396,11 +1396,11 @@ pub fn solve(
         // pattern and a new symbolic analysis). With `stop_at_mu_floor` the solve ends there.
         if (options.exact_hessian_tail || options.stop_at_mu_floor) && !exact {
             floor_iters = if mu <= mu_floor { floor_iters + 1 } else { 0 };
-            if floor_iters >= EXACT_TAIL_AFTER && options.stop_at_mu_floor {
-                status = SolveStatus::MuFloor;
-                break;
-            }
             if floor_iters >= EXACT_TAIL_AFTER {
+                if options.stop_at_mu_floor {
+                    status = SolveStatus::MuFloor;
+                    break;
+                }
                 let t = Instant::now();
                 exact = true;
                 lbfgs = None;

@@ -285,16 +285,21 @@ fn chain_dissection_and_minimum_degree_reach_the_same_collocation_optimum() {
     }
 }
 
-#[test]
-fn exact_hessian_tail_reaches_the_exact_hessian_optimum_in_fewer_iterations() {
-    // L-BFGS until μ sits at its floor, then Newton steps with the exact Hessian.
-    let p = PendulumChain::new(3, 40);
-    let base = SolverOptions {
+/// Adaptive μ, tolerance 1e-8: the options of the hybrid-Hessian tests on the pendulum chain.
+fn adaptive_tight() -> SolverOptions {
+    SolverOptions {
         tol: 1e-8,
         max_iter: 1000,
         mu_strategy: MuStrategy::Adaptive,
         ..SolverOptions::default()
-    };
+    }
+}
+
+#[test]
+fn exact_hessian_tail_reaches_the_exact_hessian_optimum_in_fewer_iterations() {
+    // L-BFGS until μ sits at its floor, then Newton steps with the exact Hessian.
+    let p = PendulumChain::new(3, 40);
+    let base = adaptive_tight();
     let exact = run(&p, &base);
     let lbfgs = SolverOptions {
         hessian: HessianMode::LimitedMemory { history: 6 },
@@ -333,12 +338,9 @@ fn stop_at_mu_floor_ends_where_the_exact_tail_would_start() {
     // the same point, near the optimum but before converging.
     let p = PendulumChain::new(3, 40);
     let hybrid = SolverOptions {
-        tol: 1e-8,
-        max_iter: 1000,
-        mu_strategy: MuStrategy::Adaptive,
         hessian: HessianMode::LimitedMemory { history: 6 },
         exact_hessian_tail: true,
-        ..SolverOptions::default()
+        ..adaptive_tight()
     };
     let full = run(&p, &hybrid);
     let k = full.exact_hessian_from.expect("hybrid switches");
