@@ -540,6 +540,43 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
     assert!(warm.iterations < cold.iterations);
 }
 
+#[test]
+fn a_warm_started_exact_solve_keeps_its_regularisation_across_iterations() {
+    // Started (warm, exact Hessian) in the Rosenbrock valley where the Hessian is
+    // indefinite, the solve needs δ_w > 0 in consecutive iterations. After a regularised
+    // iteration the next one starts its inertia correction at δ_w_last/3 instead of 0, so
+    // no iteration right after one regularised with δ_w ≥ 3e-8 is unregularised, and it
+    // still reaches the published optimum.
+    let opts = SolverOptions {
+        hessian: HessianMode::Exact,
+        ..SolverOptions::default()
+    };
+    let start = StartAt {
+        nlp: &RosenbrockDisk,
+        x0: vec![-0.5, 0.8],
+    };
+    let r = run(&start, &warm(&opts));
+    assert!(r.status.is_success(), "{:?}", r.status);
+    assert!(
+        (r.objective - RosenbrockDisk::F_OPT).abs() <= 1e-6,
+        "f = {}",
+        r.objective
+    );
+    for (a, b) in r.x.iter().zip(RosenbrockDisk::X_OPT) {
+        assert!((a - b).abs() <= 1e-4, "x = {:?}", r.x);
+    }
+    let regularised: Vec<f64> = r.log.iter().map(|l| l.regularisation).collect();
+    assert!(
+        regularised.windows(2).any(|w| w[0] > 0.0 && w[1] > 0.0),
+        "no two consecutive regularised iterations: {regularised:?}"
+    );
+    for (k, w) in regularised.windows(2).enumerate() {
+        if w[0] >= 3e-8 {
+            assert!(w[1] > 0.0, "iteration {}: {regularised:?}", k + 1);
+        }
+    }
+}
+
 /// A wrapper that breaks one aspect of HS071.
 struct Broken {
     kind: u8,
