@@ -72,6 +72,11 @@ const DELTA_C: f64 = 1e-9;
 /// iteration the next one starts from δ_w_last/3 instead of 0 while that is at least this
 /// large.
 const REG_SKIP_ZERO_MIN: f64 = 1e-8;
+/// A warm-started solve starts from δ_w_last/3 after a regularised iteration only while its
+/// scaled optimality error is above this: far from a solution (a long descent from a poor
+/// coarse optimum) the trial with 0 fails again; near one, the unregularised Newton step is
+/// what converges fast.
+const WARM_SKIP_ZERO_ERROR: f64 = 1e-2;
 
 /// Centrality correctors (Gondzio 1996): products outside [β_min μ, β_max μ] are corrected.
 const CORRECTOR_BETA_MIN: f64 = 0.1;
@@ -1450,11 +1455,13 @@ pub fn solve(
         // exact-Hessian iterations, same iteration count and optimum; decision 0002). Not
         // from the start of an exact-Hessian solve: at 10 intervals it led to a higher local
         // optimum (303.98 instead of IPOPT's 301.52). Likewise in a warm-started solve (the
-        // fine stage of mesh sequencing, continuation cases), whose long descents from a poor
-        // coarse optimum regularise most iterations: 1.73 m/s quasi-random 226 → 218
-        // iterations, 247 → 194 s; 1.83 m/s data-informed running 298 → 285, 310 → 246 s;
-        // same optima (decision 0005). Once δ_w has decayed below 1e-8, 0 is tried again.
-        let skip_zero = (exact_from.is_some() || options.warm_start) && regularised_last;
+        // fine stage of mesh sequencing, continuation cases) while it is far from a solution
+        // ([`WARM_SKIP_ZERO_ERROR`]): its long descents from a poor coarse optimum regularise
+        // most iterations: 1.73 m/s quasi-random 226 → 212 iterations, 247 → 174 s; 1.83 m/s
+        // data-informed running 298 → 285, 310 → 224 s; same optima (decision 0005). Once δ_w
+        // has decayed below 1e-8, 0 is tried again.
+        let skip_zero = regularised_last
+            && (exact_from.is_some() || (options.warm_start && err0 > WARM_SKIP_ZERO_ERROR));
         let mut delta_w = if skip_zero && delta_w_last / 3.0 >= REG_SKIP_ZERO_MIN {
             delta_w_last / 3.0
         } else {

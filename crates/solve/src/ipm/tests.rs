@@ -543,9 +543,10 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
 #[test]
 fn a_warm_started_exact_solve_keeps_its_regularisation_across_iterations() {
     // Started (warm, exact Hessian) in the Rosenbrock valley where the Hessian is
-    // indefinite, the solve needs δ_w > 0 in consecutive iterations. After a regularised
-    // iteration the next one starts its inertia correction at δ_w_last/3 instead of 0, so
-    // no iteration right after one regularised with δ_w ≥ 3e-8 is unregularised, and it
+    // indefinite, the solve needs δ_w > 0 in consecutive iterations. Far from the solution,
+    // an iteration after a regularised one starts its inertia correction at δ_w_last/3
+    // instead of 0, so some regularised iteration right after another takes a single
+    // factorisation (with the trial at 0 first it would take at least two), and the solve
     // still reaches the published optimum.
     let opts = SolverOptions {
         hessian: HessianMode::Exact,
@@ -565,16 +566,17 @@ fn a_warm_started_exact_solve_keeps_its_regularisation_across_iterations() {
     for (a, b) in r.x.iter().zip(RosenbrockDisk::X_OPT) {
         assert!((a - b).abs() <= 1e-4, "x = {:?}", r.x);
     }
-    let regularised: Vec<f64> = r.log.iter().map(|l| l.regularisation).collect();
+    let kept = r.log.windows(2).filter(|w| {
+        w[0].regularisation > 0.0 && w[1].regularisation > 0.0 && w[1].factorisations == 1
+    });
     assert!(
-        regularised.windows(2).any(|w| w[0] > 0.0 && w[1] > 0.0),
-        "no two consecutive regularised iterations: {regularised:?}"
+        kept.count() >= 1,
+        "no regularised iteration after another with one factorisation: {:?}",
+        r.log
+            .iter()
+            .map(|l| (l.regularisation, l.factorisations))
+            .collect::<Vec<_>>()
     );
-    for (k, w) in regularised.windows(2).enumerate() {
-        if w[0] >= 3e-8 {
-            assert!(w[1] > 0.0, "iteration {}: {regularised:?}", k + 1);
-        }
-    }
 }
 
 /// A wrapper that breaks one aspect of HS071.
