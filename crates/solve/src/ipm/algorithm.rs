@@ -68,14 +68,23 @@ const FIXED_DIAG: f64 = 1e20;
 const CONSTR_MULT_INIT_MAX: f64 = 1000.0;
 /// Constant regularisation of the constraint block (quasi-definiteness).
 const DELTA_C: f64 = 1e-9;
+/// First nonzero Hessian regularisation δ_w of a solve (IPOPT's δ̄_w⁰; the inertia
+/// correction then follows IPOPT's rule with the three factors below).
+const REG_FIRST: f64 = 1e-4;
+/// Divisor of the last δ_w for the first nonzero trial of a later iteration (κ_w⁻ = 1/3).
+const REG_DECREASE: f64 = 3.0;
+/// Factor of δ_w after a failed trial before any iteration was regularised (κ̄_w⁺).
+const REG_INCREASE_FIRST: f64 = 100.0;
+/// Factor of δ_w after a failed trial once an iteration was regularised (κ_w⁺).
+const REG_INCREASE: f64 = 8.0;
 /// Inertia correction in the exact-Hessian tail of a hybrid solve: after a regularised
-/// iteration the next one starts from δ_w_last/3 instead of 0 while that is at least this
-/// large.
+/// iteration the next one starts from δ_w_last/`REG_DECREASE` instead of 0 while that is at
+/// least this large.
 const REG_SKIP_ZERO_MIN: f64 = 1e-8;
-/// A warm-started solve starts from δ_w_last/3 after a regularised iteration only while its
-/// scaled optimality error is above this: far from a solution (a long descent from a poor
-/// coarse optimum) the trial with 0 fails again; near one, the unregularised Newton step is
-/// what converges fast.
+/// A warm-started solve starts from δ_w_last/`REG_DECREASE` after a regularised iteration
+/// only while its scaled optimality error is above this: far from a solution (a long descent
+/// from a poor coarse optimum) the trial with 0 fails again; near one, the unregularised
+/// Newton step is what converges fast.
 const WARM_SKIP_ZERO_ERROR: f64 = 1e-2;
 
 /// Centrality correctors (Gondzio 1996): products outside [β_min μ, β_max μ] are corrected.
@@ -1462,8 +1471,9 @@ pub fn solve(
         // has decayed below 1e-8, 0 is tried again.
         let skip_zero = regularised_last
             && (exact_from.is_some() || (options.warm_start && err0 > WARM_SKIP_ZERO_ERROR));
-        let mut delta_w = if skip_zero && delta_w_last / 3.0 >= REG_SKIP_ZERO_MIN {
-            delta_w_last / 3.0
+        let reduced = delta_w_last / REG_DECREASE;
+        let mut delta_w = if skip_zero && reduced >= REG_SKIP_ZERO_MIN {
+            reduced
         } else {
             0.0f64
         };
@@ -1501,14 +1511,14 @@ pub fn solve(
             }
             delta_w = if delta_w == 0.0 {
                 if delta_w_last == 0.0 {
-                    1e-4
+                    REG_FIRST
                 } else {
-                    (delta_w_last / 3.0).max(1e-20)
+                    reduced.max(1e-20)
                 }
             } else if delta_w_last == 0.0 {
-                delta_w * 100.0
+                delta_w * REG_INCREASE_FIRST
             } else {
-                delta_w * 8.0
+                delta_w * REG_INCREASE
             };
             if delta_w > 1e40 {
                 break;
