@@ -190,7 +190,8 @@ pub fn derivatives_table(b: &DerivativeBench) -> String {
          data-informed walking guess; median of {} calls)\n\n\
          n = {}, m = {}, Jacobian nnz = {}, Hessian nnz (lower triangle) = {}; \
          problem and tape built in {:.2} s\n\n\
-         node tape: {} operations, {} forward-gradient entries, {} second-order entries\n\n\
+         node tape: {} operations, {} forward-gradient entries, {} second-order \
+         store entries (places reused by liveness)\n\n\
          | evaluation |",
         b.mesh_intervals,
         b.nodes,

@@ -15,6 +15,7 @@
 mod batch;
 mod build;
 pub mod op;
+mod slots;
 mod sparse;
 mod sweep;
 mod var;
@@ -114,7 +115,8 @@ pub struct TapeStats {
     pub hes_colours: usize,
     /// Stored entries of the per-node sparse gradients (forward Jacobian sweep).
     pub grad_entries: usize,
-    /// Stored entries of the per-node second-order adjoints (Hessian sweep).
+    /// Length of the store of the per-node second-order adjoints (Hessian sweep): the
+    /// inputs' sets plus the most other sets live at once (places reused by liveness).
     pub adot_entries: usize,
     /// Stored scatter positions of both sparse sweeps.
     pub map_entries: usize,

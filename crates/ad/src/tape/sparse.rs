@@ -19,6 +19,7 @@
 //!   curvature terms need it.
 
 use super::op::{Curvature, Op};
+use super::slots::Slots;
 use crate::sparsity::{bits, BitSets, Pattern};
 
 /// Where the entries of a source index set land in a destination index set.
@@ -157,9 +158,13 @@ pub(super) struct SparsePlan {
     /// Offsets of the stored gradients `P(k)` per node (empty for collapsed and folded
     /// nodes).
     poff: Vec<u32>,
-    /// Offsets of the stored second-order adjoints `R(k)` per node (empty for collapsed
-    /// nodes).
-    roff: Vec<u32>,
+    /// Length of the second-order adjoint store, and of its leading part held by the
+    /// inputs (the Hessian rows). The inputs' sets `R(i)` come first, one after another;
+    /// the others share places by liveness (a set is placed at the first step of the
+    /// reverse sweep that adds to it and freed after its own step), so the store is the
+    /// peak live size, not the sum of all sets.
+    adot_len: u32,
+    adot_inputs: u32,
     /// The second-order adjoint sweep, active operations in descending order.
     rev: Vec<RevStep>,
     /// Terms of the collapsed linear combinations of `rev`.
@@ -270,7 +275,6 @@ impl SparsePlan {
         // The sink collects nothing meaningful.
         let (rfull, ridx) = flat(&r, n);
         let rs = |k: u32| slice(&rfull, &ridx, k as usize);
-        let roff = stored_offsets(&rfull, &collapsed);
         let mut store = Vec::new();
         let mut maps = Vec::with_capacity(ops.len());
         for t in 0..ops.len() {
@@ -298,43 +302,6 @@ impl SparsePlan {
             }
             maps.push(m);
         }
-        let mut pattern = Pattern {
-            n_rows: n_in,
-            n_cols: n_in,
-            ..Pattern::default()
-        };
-        let mut hes_extract = Vec::new();
-        for i in 0..n_in {
-            let row = rs(i as u32);
-            for (pos, &j) in row.iter().enumerate() {
-                if j as usize <= i {
-                    pattern.rows.push(i as u32);
-                    pattern.cols.push(j);
-                    hes_extract.push(roff[i] + pos as u32);
-                }
-            }
-        }
-        let span = |k: u32| {
-            if k == sink {
-                (0, 0)
-            } else {
-                (poff[k as usize], poff[k as usize + 1] - poff[k as usize])
-            }
-        };
-        let rspan = |k: u32| {
-            if k == sink {
-                Span::default()
-            } else {
-                Span {
-                    start: roff[k as usize],
-                    len: roff[k as usize + 1] - roff[k as usize],
-                }
-            }
-        };
-        let pspan = |k: u32| {
-            let (start, len) = span(k);
-            Span { start, len }
-        };
         // Collapsed combinations per root, leaves merged in ascending node order: `rcombos`
         // through linear nodes only (reverse sweep), `fcombos` also through folded
         // products (forward sweep).
@@ -362,6 +329,87 @@ impl SparsePlan {
         };
         let rcombos = combinations(&collapsed);
         let fcombos = combinations(&fcollapsed);
+        // Places of the R sets: the inputs' first (the Hessian rows, read at the end), then
+        // each other set from the first reverse step that adds to it (an operand, or a leaf
+        // of a collapsed combination) until its own step has read and zeroed it.
+        let rlen = |k: usize| {
+            if collapsed[k] {
+                0
+            } else {
+                rfull[k + 1] - rfull[k]
+            }
+        };
+        let mut slots = Slots::default();
+        let mut rspans = vec![Span::default(); n];
+        let mut placed = vec![false; n];
+        for i in 0..n_in {
+            rspans[i] = Span {
+                start: slots.alloc(rlen(i)),
+                len: rlen(i),
+            };
+            placed[i] = true;
+        }
+        let adot_inputs = slots.peak();
+        let mut written = Vec::new();
+        for t in (0..ops.len())
+            .rev()
+            .filter(|&t| active[n_in + t] && !collapsed[n_in + t])
+        {
+            let [a, b] = args[t];
+            written.clear();
+            match &rcombos[t] {
+                Some(combo) if !combo.is_empty() => written.extend(combo.iter().map(|l| l.node)),
+                _ => written.extend([a, b].into_iter().filter(|&j| j != sink)),
+            }
+            let k = (n_in + t) as u32;
+            written.push(k);
+            for &j in &written {
+                let j = j as usize;
+                if !placed[j] {
+                    rspans[j] = Span {
+                        start: slots.alloc(rlen(j)),
+                        len: rlen(j),
+                    };
+                    placed[j] = true;
+                }
+            }
+            let own = rspans[k as usize];
+            slots.free(own.start, own.len);
+        }
+        let mut pattern = Pattern {
+            n_rows: n_in,
+            n_cols: n_in,
+            ..Pattern::default()
+        };
+        let mut hes_extract = Vec::new();
+        for i in 0..n_in {
+            let row = rs(i as u32);
+            for (pos, &j) in row.iter().enumerate() {
+                if j as usize <= i {
+                    pattern.rows.push(i as u32);
+                    pattern.cols.push(j);
+                    hes_extract.push(rspans[i].start + pos as u32);
+                }
+            }
+        }
+        let span = |k: u32| {
+            if k == sink {
+                (0, 0)
+            } else {
+                (poff[k as usize], poff[k as usize + 1] - poff[k as usize])
+            }
+        };
+        let rspan = |k: u32| {
+            if k == sink {
+                Span::default()
+            } else {
+                rspans[k as usize]
+            }
+        };
+        let pspan = |k: u32| {
+            let (start, len) = span(k);
+            Span { start, len }
+        };
         let mut rterms = Vec::new();
         let mut rev = Vec::new();
         for t in (0..ops.len())
@@ -421,7 +469,8 @@ impl SparsePlan {
         (
             SparsePlan {
                 poff,
-                roff,
+                adot_len: slots.peak(),
+                adot_inputs,
                 rev,
                 rterms,
                 fwd,
@@ -439,7 +488,7 @@ impl SparsePlan {
     }
     /// Length of the second-order adjoint store.
     pub(super) fn adot_len(&self) -> usize {
-        *self.roff.last().unwrap_or(&0) as usize
+        self.adot_len as usize
     }
     /// Total number of stored map positions (memory report).
     pub(super) fn map_len(&self) -> usize {
@@ -628,6 +677,19 @@ fn axpy<const L: usize>(
     }
 }
 
+/// `d[src]` to read and `d[dst]` to write: two sets live at the same step of the reverse
+/// sweep, which [`Slots`] placed apart.
+#[inline(always)]
+fn read_write<T>(d: &mut [T], src: Span, dst: Span) -> (&[T], &mut [T]) {
+    if dst.start >= src.start + src.len {
+        let (lo, hi) = d.split_at_mut(dst.start as usize);
+        (&lo[src.range()], &mut hi[..dst.len as usize])
+    } else {
+        let (lo, hi) = d.split_at_mut(src.start as usize);
+        (&hi[..src.len as usize], &mut lo[dst.range()])
+    }
+}
+
 /// The local derivatives of one evaluation point (lane) that the sparse sweeps read:
 /// first partials, second partials and adjoints of every operation.
 #[derive(Clone, Copy)]
@@ -734,18 +796,11 @@ impl super::Tape {
         for s in &sp.rev {
             if s.terms.len > 0 {
                 // Linear: no curvature terms, only ȧⱼ += c ȧₖ for each term.
-                let (lo, hi) = d.split_at_mut(s.rk.start as usize);
-                let dk = &mut hi[..s.rk.len as usize];
                 for term in &sp.rterms[s.terms.range()] {
-                    axpy(
-                        &mut lo[term.set.range()],
-                        dk,
-                        [term.w.coef; L],
-                        term.map,
-                        &sp.store,
-                    );
+                    let (dk, dj) = read_write(d, s.rk, term.set);
+                    axpy(dj, dk, [term.w.coef; L], term.map, &sp.store);
                 }
-                dk.iter_mut().for_each(|x| *x = [0.0; L]);
+                d[s.rk.range()].iter_mut().for_each(|x| *x = [0.0; L]);
                 continue;
             }
             let t = s.t as usize;
@@ -765,28 +820,25 @@ impl super::Tape {
                 }
             }
             let m = &s.maps;
-            // Operands precede the result: their adjoint sets lie before R(k).
-            let (lo, hi) = d.split_at_mut(s.rk.start as usize);
-            let dk = &mut hi[..s.rk.len as usize];
             let nonlinear = s.curv != Curvature::Linear;
             let ga = &g[s.pa.range()];
             let gb = &g[s.pb.range()];
             if s.same {
-                let da = &mut lo[s.ra.range()];
+                let (dk, da) = read_write(d, s.rk, s.ra);
                 axpy(da, dk, pa, m.ra, &sp.store);
                 if nonlinear {
                     axpy(da, ga, cs, m.pa_ra, &sp.store);
                 }
             } else {
                 if s.ra.len > 0 {
-                    let da = &mut lo[s.ra.range()];
+                    let (dk, da) = read_write(d, s.rk, s.ra);
                     axpy(da, dk, pa, m.ra, &sp.store);
                     if nonlinear && !gb.is_empty() {
                         axpy(da, gb, cab, m.pb_ra, &sp.store);
                     }
                 }
                 if s.rb.len > 0 {
-                    let db = &mut lo[s.rb.range()];
+                    let (dk, db) = read_write(d, s.rk, s.rb);
                     axpy(db, dk, pb, m.rb, &sp.store);
                     if nonlinear {
                         if !ga.is_empty() {
@@ -798,14 +850,14 @@ impl super::Tape {
                     }
                 }
             }
-            dk.iter_mut().for_each(|x| *x = [0.0; L]);
+            d[s.rk.range()].iter_mut().for_each(|x| *x = [0.0; L]);
         }
         for (l, h) in hes.into_iter().enumerate() {
             for (h, &pos) in h.iter_mut().zip(&sp.hes_extract) {
                 *h = d[pos as usize][l];
             }
         }
-        d[..sp.roff[self.n_in] as usize]
+        d[..sp.adot_inputs as usize]
             .iter_mut()
             .for_each(|x| *x = [0.0; L]);
     }
