@@ -302,6 +302,46 @@ impl SparsePlan {
             }
             maps.push(m);
         }
+        // Places of the R sets: the inputs' first (the Hessian rows, read at the end); the
+        // others are placed while the reverse sweep is planned below.
+        let mut rplaces = RPlaces::new(n, |k| {
+            if collapsed[k] {
+                0
+            } else {
+                rfull[k + 1] - rfull[k]
+            }
+        });
+        for i in 0..n_in {
+            rplaces.place(i as u32);
+        }
+        let adot_inputs = rplaces.slots.peak();
+        let mut pattern = Pattern {
+            n_rows: n_in,
+            n_cols: n_in,
+            ..Pattern::default()
+        };
+        let mut hes_extract = Vec::new();
+        for i in 0..n_in {
+            let row = rs(i as u32);
+            for (pos, &j) in row.iter().enumerate() {
+                if j as usize <= i {
+                    pattern.rows.push(i as u32);
+                    pattern.cols.push(j);
+                    hes_extract.push(rplaces.place(i as u32).start + pos as u32);
+                }
+            }
+        }
+        let span = |k: u32| {
+            if k == sink {
+                (0, 0)
+            } else {
+                (poff[k as usize], poff[k as usize + 1] - poff[k as usize])
+            }
+        };
+        let pspan = |k: u32| {
+            let (start, len) = span(k);
+            Span { start, len }
+        };
         // Collapsed combinations per root, leaves merged in ascending node order: `rcombos`
         // through linear nodes only (reverse sweep), `fcombos` also through folded
         // products (forward sweep).
@@ -329,87 +369,8 @@ impl SparsePlan {
         };
         let rcombos = combinations(&collapsed);
         let fcombos = combinations(&fcollapsed);
-        // Places of the R sets: the inputs' first (the Hessian rows, read at the end), then
-        // each other set from the first reverse step that adds to it (an operand, or a leaf
-        // of a collapsed combination) until its own step has read and zeroed it.
-        let rlen = |k: usize| {
-            if collapsed[k] {
-                0
-            } else {
-                rfull[k + 1] - rfull[k]
-            }
-        };
-        let mut slots = Slots::default();
-        let mut rspans = vec![Span::default(); n];
-        let mut placed = vec![false; n];
-        for i in 0..n_in {
-            rspans[i] = Span {
-                start: slots.alloc(rlen(i)),
-                len: rlen(i),
-            };
-            placed[i] = true;
-        }
-        let adot_inputs = slots.peak();
-        let mut written = Vec::new();
-        for t in (0..ops.len())
-            .rev()
-            .filter(|&t| active[n_in + t] && !collapsed[n_in + t])
-        {
-            let [a, b] = args[t];
-            written.clear();
-            match &rcombos[t] {
-                Some(combo) if !combo.is_empty() => written.extend(combo.iter().map(|l| l.node)),
-                _ => written.extend([a, b].into_iter().filter(|&j| j != sink)),
-            }
-            let k = (n_in + t) as u32;
-            written.push(k);
-            for &j in &written {
-                let j = j as usize;
-                if !placed[j] {
-                    rspans[j] = Span {
-                        start: slots.alloc(rlen(j)),
-                        len: rlen(j),
-                    };
-                    placed[j] = true;
-                }
-            }
-            let own = rspans[k as usize];
-            slots.free(own.start, own.len);
-        }
-        let mut pattern = Pattern {
-            n_rows: n_in,
-            n_cols: n_in,
-            ..Pattern::default()
-        };
-        let mut hes_extract = Vec::new();
-        for i in 0..n_in {
-            let row = rs(i as u32);
-            for (pos, &j) in row.iter().enumerate() {
-                if j as usize <= i {
-                    pattern.rows.push(i as u32);
-                    pattern.cols.push(j);
-                    hes_extract.push(rspans[i].start + pos as u32);
-                }
-            }
-        }
-        let span = |k: u32| {
-            if k == sink {
-                (0, 0)
-            } else {
-                (poff[k as usize], poff[k as usize + 1] - poff[k as usize])
-            }
-        };
-        let rspan = |k: u32| {
-            if k == sink {
-                Span::default()
-            } else {
-                rspans[k as usize]
-            }
-        };
-        let pspan = |k: u32| {
-            let (start, len) = span(k);
-            Span { start, len }
-        };
+        // Each R set is placed at the first step that adds to it (an operand, or a leaf of a
+        // collapsed combination) and freed after its own step has read and zeroed it.
         let mut rterms = Vec::new();
         let mut rev = Vec::new();
         for t in (0..ops.len())
@@ -421,9 +382,13 @@ impl SparsePlan {
             let mut step = RevStep {
                 t: t as u32,
                 k,
-                rk: rspan(k),
-                ra: rspan(a),
-                rb: if b == a { Span::default() } else { rspan(b) },
+                rk: rplaces.place(k),
+                ra: rplaces.place(a),
+                rb: if b == a {
+                    Span::default()
+                } else {
+                    rplaces.place(b)
+                },
                 pa: pspan(a),
                 pb: pspan(b),
                 maps: maps[t],
@@ -433,10 +398,11 @@ impl SparsePlan {
             };
             if let Some(combo) = &rcombos[t] {
                 step.terms = push_terms(&mut rterms, combo, |j| {
-                    (rspan(j), map_of(rs(k), rs(j), &mut store))
+                    (rplaces.place(j), map_of(rs(k), rs(j), &mut store))
                 });
             }
             rev.push(step);
+            rplaces.free(k);
         }
         let mut terms = Vec::new();
         let mut fwd = Vec::new();
@@ -469,7 +435,7 @@ impl SparsePlan {
         (
             SparsePlan {
                 poff,
-                adot_len: slots.peak(),
+                adot_len: rplaces.slots.peak(),
                 adot_inputs,
                 rev,
                 rterms,
@@ -493,6 +459,46 @@ impl SparsePlan {
     /// Total number of stored map positions (memory report).
     pub(super) fn map_len(&self) -> usize {
         self.store.len()
+    }
+}
+
+/// Places of the second-order adjoint sets `R(k)` in their store ([`Slots`]), given out in
+/// the order the reverse sweep first touches them.
+struct RPlaces<F> {
+    slots: Slots,
+    span: Vec<Option<Span>>,
+    /// Stored length of `R(k)` (0 for collapsed nodes).
+    len: F,
+}
+
+impl<F: Fn(usize) -> u32> RPlaces<F> {
+    fn new(n: usize, len: F) -> Self {
+        RPlaces {
+            slots: Slots::default(),
+            span: vec![None; n],
+            len,
+        }
+    }
+
+    /// The place of `R(k)`, given out on the first call (empty for the sink).
+    fn place(&mut self, k: u32) -> Span {
+        let Some(entry) = self.span.get_mut(k as usize) else {
+            return Span::default();
+        };
+        *entry.get_or_insert_with(|| {
+            let len = (self.len)(k as usize);
+            Span {
+                start: self.slots.alloc(len),
+                len,
+            }
+        })
+    }
+
+    /// Gives the place of `R(k)` back (after its own step).
+    fn free(&mut self, k: u32) {
+        if let Some(Some(s)) = self.span.get(k as usize) {
+            self.slots.free(s.start, s.len);
+        }
     }
 }
 
