@@ -495,6 +495,14 @@ fn batches_give_each_point_the_single_point_numbers() {
             let mut ys3 = vec![0.0; points * m];
             tape.eval_batch(&xs, &mut bw, &mut ys3).unwrap();
             assert_eq!(ys3, ys, "{} values of the batch", c.name);
+            // Jacobian and Hessian from one set of sweeps: the same numbers as each alone.
+            let (mut ys4, mut jacs4) = (vec![0.0; points * m], vec![0.0; points * nj]);
+            let mut hes4 = vec![0.0; points * nh];
+            tape.jacobian_hessian_batch(&xs, &lambdas, &mut bw, &mut ys4, &mut jacs4, &mut hes4)
+                .unwrap();
+            assert_eq!(ys4, ys, "{} values with J and H", c.name);
+            assert_eq!(jacs4, jacs, "{} J with H", c.name);
+            assert_eq!(hes4, hes, "{} H with J", c.name);
             for p in 0..points {
                 let x = &xs[p * n..(p + 1) * n];
                 let (mut y, mut jac, mut h) = (vec![0.0; m], vec![0.0; nj], vec![0.0; nh]);

@@ -145,4 +145,15 @@ impl NodeFunction for TapeNode {
         })
         .expect("tape sizes fixed at recording");
     }
+    fn jacobian_hessian_batch(
+        &self,
+        xs: &[f64],
+        ws: &[f64],
+        ys: &mut [f64],
+        jacs: &mut [f64],
+        hess: &mut [f64],
+    ) {
+        self.with_batch_ws(|bw, _| self.tape.jacobian_hessian_batch(xs, ws, bw, ys, jacs, hess))
+            .expect("tape sizes fixed at recording");
+    }
 }

@@ -82,6 +82,21 @@ pub trait NodeFunction: Sync {
             );
         }
     }
+    /// Output values, Jacobians and Hessians of Σ w_i y_i at 1 to
+    /// [`NodeFunction::batch`] points together (one block per point in each slice): the
+    /// same numbers as [`NodeFunction::jacobian_batch`] and [`NodeFunction::hessian_batch`],
+    /// for node functions that get the Jacobian from the Hessian's sweeps.
+    fn jacobian_hessian_batch(
+        &self,
+        xs: &[f64],
+        ws: &[f64],
+        ys: &mut [f64],
+        jacs: &mut [f64],
+        hess: &mut [f64],
+    ) {
+        self.jacobian_batch(xs, ys, jacs);
+        self.hessian_batch(xs, ws, hess);
+    }
 }
 
 impl<N: NodeFunction + Send> NodeFunction for std::sync::Arc<N> {
@@ -120,6 +135,16 @@ impl<N: NodeFunction + Send> NodeFunction for std::sync::Arc<N> {
     }
     fn hessian_batch(&self, xs: &[f64], ws: &[f64], hess: &mut [f64]) {
         (**self).hessian_batch(xs, ws, hess)
+    }
+    fn jacobian_hessian_batch(
+        &self,
+        xs: &[f64],
+        ws: &[f64],
+        ys: &mut [f64],
+        jacs: &mut [f64],
+        hess: &mut [f64],
+    ) {
+        (**self).jacobian_hessian_batch(xs, ws, ys, jacs, hess)
     }
 }
 
@@ -649,10 +674,15 @@ impl<F: NodeFunction> Transcription<F> {
         let s: f64 = (0..self.n_nodes)
             .map(|i| b[i % 3] * values[i * self.n_out + self.n_path])
             .sum();
+        let (d, cc) = self.distance_factor(x);
+        (s, d, x[self.problem.layout.tf()], cc)
+    }
+
+    /// The distance walked d [m] and the cost factor c = 1/(N d) at x.
+    fn distance_factor(&self, x: &[f64]) -> (f64, f64) {
         let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
         let d = stx * (x[self.txn] - x[self.tx0]);
-        let tf = x[self.problem.layout.tf()];
-        (s, d, tf, 1.0 / (self.problem.layout.n as f64 * d))
+        (d, 1.0 / (self.problem.layout.n as f64 * d))
     }
 
     /// Objective terms at `x` reported separately: (J, distance [m], duration [s]).
@@ -798,32 +828,70 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         let b = radau::quadrature_weights();
         let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
         let tf = x[l.tf()];
-        // Cost pieces need node values and cost gradients.
-        let (s, d, _, cc) = self.with_nodes(x, true, |c| self.cost_parts(x, &c.values));
-        // Node Hessians in parallel, then scattered (positions may repeat across nodes).
+        // The cost weight of a node needs only x.
+        let (d, cc) = self.distance_factor(x);
+        let weights = |i: usize, wp: &mut [f64]| {
+            let base = i * per_point + ns;
+            wp[..self.n_path].copy_from_slice(&lambda[base..base + self.n_path]);
+            wp[self.n_path] = obj_factor * cc * tf * b[i % 3];
+        };
         let mut node_h = self.node_hessians.lock().unwrap_or_else(|e| e.into_inner());
         node_h.resize(self.n_nodes * nh, 0.0);
         let batch = self.node.batch().max(1);
         let nout = self.n_out;
-        node_h
-            .par_chunks_mut(nh.max(1) * batch)
-            .enumerate()
-            .for_each_init(
-                || (vec![0.0; nin * batch], vec![0.0; nout * batch]),
-                |(xin, w), (k, hv)| {
-                    let points = hv.len() / nh.max(1);
-                    for p in 0..points {
-                        let i = k * batch + p;
-                        self.gather(x, i, &mut xin[p * nin..(p + 1) * nin]);
-                        let base = i * per_point + ns;
-                        let wp = &mut w[p * nout..(p + 1) * nout];
-                        wp[..self.n_path].copy_from_slice(&lambda[base..base + self.n_path]);
-                        wp[self.n_path] = obj_factor * cc * tf * b[i % 3];
-                    }
-                    self.node
-                        .hessian_batch(&xin[..points * nin], &w[..points * nout], hv);
-                },
-            );
+        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
+        if cache.x.as_slice() != x {
+            cache.x.clear();
+            cache.x.extend_from_slice(x);
+            cache.valid_values = false;
+            cache.valid_jac = false;
+        }
+        // Node Hessians in parallel, then scattered (positions may repeat across nodes). The
+        // Hessian's sweeps also give the node values and Jacobians: when the cache lacks them
+        // at x (an iteration asks for the Hessian first), they are kept there, and the
+        // gradient and Jacobian at the same x need no sweeps of their own.
+        if cache.valid_jac {
+            node_h
+                .par_chunks_mut(nh.max(1) * batch)
+                .enumerate()
+                .for_each_init(
+                    || (vec![0.0; nin * batch], vec![0.0; nout * batch]),
+                    |(xin, w), (k, hv)| {
+                        let points = hv.len() / nh.max(1);
+                        let xs = self.gather_points(x, k * batch, points, xin);
+                        for p in 0..points {
+                            weights(k * batch + p, &mut w[p * nout..(p + 1) * nout]);
+                        }
+                        self.node.hessian_batch(xs, &w[..points * nout], hv);
+                    },
+                );
+        } else {
+            let c = &mut *cache;
+            c.values.resize(self.n_nodes * nout, 0.0);
+            c.jac.resize(self.n_nodes * nj, 0.0);
+            node_h
+                .par_chunks_mut(nh.max(1) * batch)
+                .zip(c.values.par_chunks_mut(nout * batch))
+                .zip(c.jac.par_chunks_mut(nj.max(1) * batch))
+                .enumerate()
+                .for_each_init(
+                    || (vec![0.0; nin * batch], vec![0.0; nout * batch]),
+                    |(xin, w), (k, ((hv, y), jac))| {
+                        let points = y.len() / nout;
+                        let xs = self.gather_points(x, k * batch, points, xin);
+                        for p in 0..points {
+                            weights(k * batch + p, &mut w[p * nout..(p + 1) * nout]);
+                        }
+                        self.node
+                            .jacobian_hessian_batch(xs, &w[..points * nout], y, jac, hv);
+                    },
+                );
+            c.valid_values = true;
+            c.valid_jac = true;
+        }
+        drop(cache);
+        // Cost pieces need node values and cost gradients (now cached at x).
+        let s = self.with_nodes(x, true, |c| self.cost_parts(x, &c.values).0);
         for (p, &pos) in self.node_hess_pos.iter().enumerate() {
             vals[pos] += node_h[p];
         }

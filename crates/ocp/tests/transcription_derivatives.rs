@@ -8,8 +8,9 @@ use stride_ocp::{
 };
 use stride_solve::nlp::{check_derivatives, DerivativeCheckOptions, Nlp};
 
-#[test]
-fn transcription_derivatives_match_finite_differences() {
+/// The 3-interval nominal problem on the tape node function, and its data-informed walking
+/// guess moved by `perturbation(i)` in variable `i`.
+fn small_transcription(perturbation: impl Fn(usize) -> f64) -> (Transcription<TapeNode>, Vec<f64>) {
     let model = stride_model::default_model::default_model();
     let settings = ProblemSettings {
         mesh_intervals: 3,
@@ -21,13 +22,18 @@ fn transcription_derivatives_match_finite_differences() {
     let mut x = problem
         .initial_guess(GuessKind::DataInformedWalking, Some(&kin))
         .unwrap();
-    // Deterministic perturbation so that no variable sits at a special value.
     for (i, xi) in x.iter_mut().enumerate() {
-        *xi += 1e-3 * ((i as f64 * 0.7548776662).fract() - 0.5);
+        *xi += perturbation(i);
     }
     let node = NodeModel::new(&problem).unwrap();
     let tape = TapeNode::for_problem(&problem, &node, &x).unwrap();
-    let tr = Transcription::new(problem, tape, x.clone());
+    (Transcription::new(problem, tape, x.clone()), x)
+}
+
+#[test]
+fn transcription_derivatives_match_finite_differences() {
+    // Deterministic perturbation so that no variable sits at a special value.
+    let (tr, x) = small_transcription(|i| 1e-3 * ((i as f64 * 0.7548776662).fract() - 0.5));
     let lambda: Vec<f64> = (0..tr.m())
         .map(|i| ((i as f64 * 0.5698402910).fract() - 0.5) * 2.0)
         .collect();
@@ -71,4 +77,44 @@ fn transcription_derivatives_match_finite_differences() {
         println!("{m:?}");
     }
     assert!(report.mismatches.is_empty(), "derivative mismatches");
+}
+
+/// The Hessian's sweeps also fill the node Jacobians (kept for the gradient and Jacobian at
+/// the same point): asking for the Hessian first, or after a move to another point, must
+/// give the numbers of the Jacobian's own sweeps, which the test above checks against
+/// finite differences.
+#[test]
+fn hessian_first_gives_the_same_jacobian_and_gradient() {
+    let (tr, x) = small_transcription(|_| 0.0);
+    let (n, m) = (tr.n(), tr.m());
+    let (nj, nh) = (tr.jacobian_structure().nnz(), tr.hessian_structure().nnz());
+    let lambda: Vec<f64> = (0..m).map(|i| (i as f64 * 0.37).sin()).collect();
+    let moved: Vec<f64> = x
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v + 1e-3 * (i as f64 * 0.61).cos())
+        .collect();
+    // Jacobian's own sweeps first, then the Hessian, at each point.
+    let separate = |p: &[f64]| {
+        tr.clear_cache();
+        let (mut g, mut j, mut h) = (vec![0.0; n], vec![0.0; nj], vec![0.0; nh]);
+        tr.gradient(p, &mut g).unwrap();
+        tr.jacobian_values(p, &mut j).unwrap();
+        tr.hessian_values(p, 0.8, &lambda, &mut h).unwrap();
+        (g, j, h)
+    };
+    let (g0, j0, h0) = separate(&x);
+    let (g1, j1, h1) = separate(&moved);
+    // Hessian first: at x from an empty cache, then at the moved point with x cached.
+    tr.clear_cache();
+    for (p, (g_ref, j_ref, h_ref)) in [(&x, (&g0, &j0, &h0)), (&moved, (&g1, &j1, &h1))] {
+        let (mut g, mut j, mut h) = (vec![0.0; n], vec![0.0; nj], vec![0.0; nh]);
+        tr.hessian_values(p, 0.8, &lambda, &mut h).unwrap();
+        tr.gradient(p, &mut g).unwrap();
+        tr.jacobian_values(p, &mut j).unwrap();
+        assert_eq!(&h, h_ref, "Hessian");
+        assert_eq!(&g, g_ref, "gradient");
+        assert_eq!(&j, j_ref, "Jacobian");
+    }
+    assert_ne!(j0, j1, "the two points must differ");
 }

@@ -134,14 +134,52 @@ impl Tape {
         ys: &mut [f64],
         hes: &mut [f64],
     ) -> Result<(), AdError> {
+        self.second_order_batch(xs, lambdas, bw, ys, None, hes)
+    }
+
+    /// [`Tape::hessian_batch`] that also writes the Jacobian values of each point into
+    /// `jacs` (one block per point, order of [`Tape::jacobian_pattern`]): the Hessian's
+    /// forward sweep already holds them, so this costs little more than the Hessian alone.
+    /// Same numbers as [`Tape::jacobian_batch`] and [`Tape::hessian_batch`].
+    pub fn jacobian_hessian_batch(
+        &self,
+        xs: &[f64],
+        lambdas: &[f64],
+        bw: &mut BatchWorkspace,
+        ys: &mut [f64],
+        jacs: &mut [f64],
+        hes: &mut [f64],
+    ) -> Result<(), AdError> {
+        self.second_order_batch(xs, lambdas, bw, ys, Some(jacs), hes)
+    }
+
+    /// Values, optionally Jacobians, and Lagrangian Hessians at 1 to [`BATCH`] points.
+    fn second_order_batch(
+        &self,
+        xs: &[f64],
+        lambdas: &[f64],
+        bw: &mut BatchWorkspace,
+        ys: &mut [f64],
+        jacs: Option<&mut [f64]>,
+        hes: &mut [f64],
+    ) -> Result<(), AdError> {
         let points = self.batch_points(xs.len(), bw)?;
         let (m, nnz) = (self.outputs.len(), self.hes_pattern.nnz());
+        let nnz_j = self.jac_pattern.nnz();
         check_len("multipliers lambdas", m * points, lambdas.len())?;
         check_len("outputs ys", m * points, ys.len())?;
         check_len("Hessian values hes", nnz * points, hes.len())?;
+        if let Some(jacs) = &jacs {
+            check_len("Jacobian values jacs", nnz_j * points, jacs.len())?;
+        }
         self.batch_values::<2>(xs, Some(lambdas), points, bw, ys);
         let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
         self.sparse_forward_batch(part, &mut bw.grad);
+        if let Some(jacs) = jacs {
+            for (l, jac) in jacs.chunks_exact_mut(nnz_j.max(1)).take(points).enumerate() {
+                self.sparse_jacobian_extract(&bw.grad, l, jac);
+            }
+        }
         let locals: [LaneLocals<'_>; BATCH] = std::array::from_fn(|l| LaneLocals {
             part: &bw.lanes[l].part,
             sec: &bw.lanes[l].sec,

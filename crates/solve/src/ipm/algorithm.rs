@@ -2190,18 +2190,20 @@ pub fn solve(
             }
         }
         let x_new = st.w[..n].to_vec();
+        // The Hessian first: a problem may get its Jacobian from the Hessian's sweeps and
+        // keep it for the gradient and Jacobian at the same point.
+        if exact {
+            if let Err(e) = prob.hessian(&x_new, 1.0, &st.lam.clone(), &mut st.hv) {
+                status = SolveStatus::Failed(format!("Hessian evaluation failed: {e}"));
+                break;
+            }
+        }
         let ev = prob
             .gradient(&x_new, &mut st.grad)
             .and_then(|_| prob.jacobian(&x_new, &mut st.jv));
         if let Err(e) = ev {
             status = SolveStatus::Failed(format!("derivative evaluation failed: {e}"));
             break;
-        }
-        if exact {
-            if let Err(e) = prob.hessian(&x_new, 1.0, &st.lam.clone(), &mut st.hv) {
-                status = SolveStatus::Failed(format!("Hessian evaluation failed: {e}"));
-                break;
-            }
         }
         if let Some(lb) = &mut lbfgs {
             tmp_n.copy_from_slice(&st.grad);
