@@ -265,6 +265,18 @@ struct Cache {
     valid_jac: bool,
 }
 
+impl Cache {
+    /// Makes the cache belong to `x`, invalidating what it held for another point.
+    fn move_to(&mut self, x: &[f64]) {
+        if self.x.as_slice() != x {
+            self.x.clear();
+            self.x.extend_from_slice(x);
+            self.valid_values = false;
+            self.valid_jac = false;
+        }
+    }
+}
+
 /// The transcribed problem: implements [`Nlp`].
 pub struct Transcription<F: NodeFunction> {
     /// The problem.
@@ -621,12 +633,7 @@ impl<F: NodeFunction> Transcription<F> {
     /// Evaluate all nodes (values, and Jacobians if `with_jac`) at `x`, using the cache.
     fn with_nodes<R>(&self, x: &[f64], with_jac: bool, f: impl FnOnce(&Cache) -> R) -> R {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-        if cache.x.as_slice() != x {
-            cache.x.clear();
-            cache.x.extend_from_slice(x);
-            cache.valid_values = false;
-            cache.valid_jac = false;
-        }
+        cache.move_to(x);
         let nin = self.inputs.len();
         let nout = self.n_out;
         if with_jac && !cache.valid_jac {
@@ -840,52 +847,38 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         let batch = self.node.batch().max(1);
         let nout = self.n_out;
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-        if cache.x.as_slice() != x {
-            cache.x.clear();
-            cache.x.extend_from_slice(x);
-            cache.valid_values = false;
-            cache.valid_jac = false;
-        }
+        cache.move_to(x);
         // Node Hessians in parallel, then scattered (positions may repeat across nodes). The
         // Hessian's sweeps also give the node values and Jacobians: when the cache lacks them
         // at x (an iteration asks for the Hessian first), they are kept there, and the
         // gradient and Jacobian at the same x need no sweeps of their own.
-        if cache.valid_jac {
-            node_h
-                .par_chunks_mut(nh.max(1) * batch)
-                .enumerate()
-                .for_each_init(
-                    || (vec![0.0; nin * batch], vec![0.0; nout * batch]),
-                    |(xin, w), (k, hv)| {
-                        let points = hv.len() / nh.max(1);
-                        let xs = self.gather_points(x, k * batch, points, xin);
-                        for p in 0..points {
-                            weights(k * batch + p, &mut w[p * nout..(p + 1) * nout]);
-                        }
-                        self.node.hessian_batch(xs, &w[..points * nout], hv);
-                    },
-                );
-        } else {
-            let c = &mut *cache;
-            c.values.resize(self.n_nodes * nout, 0.0);
-            c.jac.resize(self.n_nodes * nj, 0.0);
-            node_h
-                .par_chunks_mut(nh.max(1) * batch)
-                .zip(c.values.par_chunks_mut(nout * batch))
-                .zip(c.jac.par_chunks_mut(nj.max(1) * batch))
-                .enumerate()
-                .for_each_init(
-                    || (vec![0.0; nin * batch], vec![0.0; nout * batch]),
-                    |(xin, w), (k, ((hv, y), jac))| {
-                        let points = y.len() / nout;
-                        let xs = self.gather_points(x, k * batch, points, xin);
-                        for p in 0..points {
-                            weights(k * batch + p, &mut w[p * nout..(p + 1) * nout]);
-                        }
-                        self.node
-                            .jacobian_hessian_batch(xs, &w[..points * nout], y, jac, hv);
-                    },
-                );
+        // (without Hessian entries the loop below runs no chunk: `with_nodes` fills them)
+        let fill = !cache.valid_jac && nh > 0;
+        let c = &mut *cache;
+        c.values.resize(self.n_nodes * nout, 0.0);
+        c.jac.resize(self.n_nodes * nj, 0.0);
+        node_h
+            .par_chunks_mut(nh.max(1) * batch)
+            .zip(c.values.par_chunks_mut(nout * batch))
+            .zip(c.jac.par_chunks_mut(nj.max(1) * batch))
+            .enumerate()
+            .for_each_init(
+                || (vec![0.0; nin * batch], vec![0.0; nout * batch]),
+                |(xin, w), (k, ((hv, y), jac))| {
+                    let points = y.len() / nout;
+                    let xs = self.gather_points(x, k * batch, points, xin);
+                    for p in 0..points {
+                        weights(k * batch + p, &mut w[p * nout..(p + 1) * nout]);
+                    }
+                    let w = &w[..points * nout];
+                    if fill {
+                        self.node.jacobian_hessian_batch(xs, w, y, jac, hv);
+                    } else {
+                        self.node.hessian_batch(xs, w, hv);
+                    }
+                },
+            );
+        if fill {
             c.valid_values = true;
             c.valid_jac = true;
         }

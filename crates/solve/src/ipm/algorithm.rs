@@ -2193,7 +2193,7 @@ pub fn solve(
         // The Hessian first: a problem may get its Jacobian from the Hessian's sweeps and
         // keep it for the gradient and Jacobian at the same point.
         if exact {
-            if let Err(e) = prob.hessian(&x_new, 1.0, &st.lam.clone(), &mut st.hv) {
+            if let Err(e) = prob.hessian(&x_new, 1.0, &st.lam, &mut st.hv) {
                 status = SolveStatus::Failed(format!("Hessian evaluation failed: {e}"));
                 break;
             }
