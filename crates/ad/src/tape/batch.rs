@@ -73,14 +73,12 @@ impl Tape {
             .try_into()
             .expect("a batch workspace holds BATCH lanes");
         self.forward_lanes::<ORD, BATCH>(inputs, lanes.each_mut());
-        for (l, ws) in bw.lanes.iter_mut().enumerate() {
-            if l < points {
-                self.write_outputs(ws, &mut ys[l * m..(l + 1) * m]);
-            }
-            if let Some(lambdas) = lambdas {
-                let p = point(l);
-                self.adjoint_sweep(ws, &lambdas[p * m..(p + 1) * m]);
-            }
+        for (l, ws) in lanes.iter().take(points).enumerate() {
+            self.write_outputs(ws, &mut ys[l * m..(l + 1) * m]);
+        }
+        if let Some(lambdas) = lambdas {
+            let w: [&[f64]; BATCH] = std::array::from_fn(|l| &lambdas[point(l) * m..][..m]);
+            self.adjoint_lanes(lanes.each_mut(), w);
         }
     }
 

@@ -212,25 +212,49 @@ impl Tape {
     /// Scalar reverse sweep over all active nodes, accumulating into `ws.abar`
     /// (which the caller has seeded).
     pub(super) fn reverse_scalar(&self, ws: &mut Workspace) {
+        self.reverse_lanes([ws]);
+    }
+
+    /// Scalar reverse sweeps of `L` points at once, each lane accumulating into its own
+    /// `abar` (seeded by the caller) with its own partials: every instruction is decoded
+    /// once for all lanes, and the lanes' independent updates overlap. Same operations in
+    /// the same order as one sweep per lane.
+    pub(super) fn reverse_lanes<const L: usize>(&self, lanes: [&mut Workspace; L]) {
         let n_in = self.n_in;
-        let abar = &mut ws.abar;
+        let mut lanes = lanes.map(|ws| {
+            let Workspace { abar, part, .. } = ws;
+            (abar.as_mut_slice(), part.as_slice())
+        });
         for &k in &self.active_desc {
             let k = k as usize;
-            let ak = abar[k];
             let [a, b] = self.args[k - n_in];
-            let [pa, pb] = ws.part[k - n_in];
-            abar[a as usize] += pa * ak;
-            abar[b as usize] += pb * ak;
+            for (abar, part) in lanes.iter_mut() {
+                let ak = abar[k];
+                let [pa, pb] = part[k - n_in];
+                abar[a as usize] += pa * ak;
+                abar[b as usize] += pb * ak;
+            }
         }
     }
 
     /// Adjoints `ā = ∂(Σ wᵢ yᵢ)/∂node` of every node.
     pub(super) fn adjoint_sweep(&self, ws: &mut Workspace, w: &[f64]) {
-        ws.abar.iter_mut().for_each(|a| *a = 0.0);
-        for (&o, &wi) in self.outputs.iter().zip(w) {
-            ws.abar[o as usize] += wi;
+        self.adjoint_lanes([ws], [w]);
+    }
+
+    /// [`Tape::adjoint_sweep`] of `L` points at once, lane `l` with the weights `w[l]`.
+    pub(super) fn adjoint_lanes<const L: usize>(
+        &self,
+        mut lanes: [&mut Workspace; L],
+        w: [&[f64]; L],
+    ) {
+        for (ws, w) in lanes.iter_mut().zip(w) {
+            ws.abar.iter_mut().for_each(|a| *a = 0.0);
+            for (&o, &wi) in self.outputs.iter().zip(w) {
+                ws.abar[o as usize] += wi;
+            }
         }
-        self.reverse_scalar(ws);
+        self.reverse_lanes(lanes);
     }
 
     /// Compressed vector reverse sweeps writing the Jacobian values.
