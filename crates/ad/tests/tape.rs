@@ -136,12 +136,32 @@ fn linear_chains<T: Scalar>(x: &[T]) -> Vec<T> {
     ]
 }
 
+/// A deep chain of nonlinear steps on one running value that depends on every input
+/// (like a kinematic chain): each step's gradient set is read by the next step only, so
+/// the Jacobian-only sweep can reuse its place.
+fn deep_chain<T: Scalar>(x: &[T]) -> Vec<T> {
+    let n = x.len();
+    let mut s = T::zero();
+    for (i, &xi) in x.iter().enumerate() {
+        s += xi * (0.3 + 0.1 * i as f64);
+    }
+    let mut outs = Vec::new();
+    for k in 0..24 {
+        s = s.sin() * 1.1 + x[k % n] * s;
+        if k % 8 == 7 {
+            outs.push(s.sq());
+        }
+    }
+    outs
+}
+
 fn cases() -> Vec<Case> {
     vec![
         case!("rosenbrock", 8, -1.5, 1.5, rosenbrock),
         case!("every_method", 5, 0.5, 1.4, every_method),
         case!("banded", 40, -1.0, 1.0, banded),
         case!("linear_chains", 12, -1.0, 1.0, linear_chains),
+        case!("deep_chain", 10, -0.5, 0.5, deep_chain),
     ]
 }
 
@@ -390,6 +410,36 @@ fn linear_combinations_store_only_their_result() {
     for (e, &c) in cols.iter().enumerate() {
         assert_eq!(jac[e], 2.0 * x0[c as usize] + 2.0, "column {c}");
     }
+}
+
+#[test]
+fn jacobian_sweep_reuses_the_places_of_dead_gradients() {
+    // Every step of the chain stores a gradient over all 10 inputs; the Jacobian-only
+    // sweep keeps only the inputs, the outputs and the few sets live at once.
+    let n = 10;
+    let x0: Vec<f64> = (0..n).map(|i| 0.05 * i as f64 - 0.2).collect();
+    let tape = Tape::record(&x0, deep_chain).unwrap();
+    let s = tape.stats();
+    assert!(s.grad_entries >= 24 * n, "full store {}", s.grad_entries);
+    assert!(
+        s.jacobian_grad_entries <= n + 3 * n + 3 * n,
+        "Jacobian-only store {} (full {})",
+        s.jacobian_grad_entries,
+        s.grad_entries
+    );
+    // Same Jacobian from the compact sweep as from the Hessian's full one.
+    let mut bw = tape.batch_workspace();
+    let m = tape.n_outputs();
+    let nnz = tape.jacobian_pattern().nnz();
+    let (mut y1, mut j1) = (vec![0.0; m], vec![0.0; nnz]);
+    tape.jacobian_batch(&x0, &mut bw, &mut y1, &mut j1).unwrap();
+    let (mut y2, mut j2) = (vec![0.0; m], vec![0.0; nnz]);
+    let mut h = vec![0.0; tape.hessian_pattern().nnz()];
+    let lambda = vec![1.0; m];
+    tape.jacobian_hessian_batch(&x0, &lambda, &mut bw, &mut y2, &mut j2, &mut h)
+        .unwrap();
+    assert_eq!(y1, y2);
+    assert_eq!(j1, j2);
 }
 
 #[test]

@@ -857,8 +857,9 @@ fn run<M: NodeFn>(title: &str, m: &M) {
         s.jac_nnz, s.jac_colours, s.hes_nnz, s.hes_colours
     );
     println!(
-        "sparse sweeps: gradient entries {}  second-order adjoint entries {}  map entries {}",
-        s.grad_entries, s.adot_entries, s.map_entries
+        "sparse sweeps: gradient entries {} (Jacobian-only sweep {})  second-order adjoint \
+         entries {}  map entries {}",
+        s.grad_entries, s.jacobian_grad_entries, s.adot_entries, s.map_entries
     );
 
     let xs: Vec<Vec<f64>> = (0..NODES).map(|_| m.point(&mut rng)).collect();

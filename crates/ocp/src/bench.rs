@@ -196,8 +196,9 @@ pub fn derivatives_table(b: &DerivativeBench) -> String {
          data-informed walking guess; median of {} calls)\n\n\
          n = {}, m = {}, Jacobian nnz = {}, Hessian nnz (lower triangle) = {}; \
          problem and tape built in {:.2} s\n\n\
-         node tape: {} operations, {} forward-gradient entries, {} second-order \
-         store entries (places reused by liveness)\n\n\
+         node tape: {} operations, {} forward-gradient entries ({} places reused by \
+         liveness in the Jacobian-only sweep), {} second-order store entries (places \
+         reused by liveness)\n\n\
          | evaluation |",
         b.mesh_intervals,
         b.nodes,
@@ -209,6 +210,7 @@ pub fn derivatives_table(b: &DerivativeBench) -> String {
         b.setup.as_secs_f64(),
         b.tape.n_ops,
         b.tape.grad_entries,
+        b.tape.jacobian_grad_entries,
         b.tape.adot_entries
     );
     for t in &b.times {

@@ -114,9 +114,10 @@ impl Tape {
         check_len("Jacobian values jacs", nnz * points, jacs.len())?;
         self.batch_values::<1>(xs, None, points, bw, ys);
         let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
-        self.sparse_forward_batch(part, &mut bw.grad);
+        let plan = self.sparse.compact();
+        self.sparse_forward_batch(plan, part, &mut bw.grad);
         for (l, jac) in jacs.chunks_exact_mut(nnz.max(1)).take(points).enumerate() {
-            self.sparse_jacobian_extract(&bw.grad, l, jac);
+            self.sparse_jacobian_extract(plan, &bw.grad, l, jac);
         }
         Ok(())
     }
@@ -172,10 +173,11 @@ impl Tape {
         }
         self.batch_values::<2>(xs, Some(lambdas), points, bw, ys);
         let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
-        self.sparse_forward_batch(part, &mut bw.grad);
+        let plan = self.sparse.full();
+        self.sparse_forward_batch(plan, part, &mut bw.grad);
         if let Some(jacs) = jacs {
             for (l, jac) in jacs.chunks_exact_mut(nnz_j.max(1)).take(points).enumerate() {
-                self.sparse_jacobian_extract(&bw.grad, l, jac);
+                self.sparse_jacobian_extract(plan, &bw.grad, l, jac);
             }
         }
         let locals: [LaneLocals<'_>; BATCH] = std::array::from_fn(|l| LaneLocals {

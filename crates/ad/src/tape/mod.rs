@@ -113,8 +113,12 @@ pub struct TapeStats {
     pub hes_nnz: usize,
     /// Colours (forward directions) of the Hessian columns.
     pub hes_colours: usize,
-    /// Stored entries of the per-node sparse gradients (forward Jacobian sweep).
+    /// Stored entries of the per-node sparse gradients of the forward sweep that keeps
+    /// them all for the Hessian's second-order sweep.
     pub grad_entries: usize,
+    /// Length of the gradient store of the Jacobian-only forward sweep: the inputs' and
+    /// outputs' sets plus the most other sets live at once (places reused by liveness).
+    pub jacobian_grad_entries: usize,
     /// Length of the store of the per-node second-order adjoints (Hessian sweep): the
     /// inputs' sets plus the most other sets live at once (places reused by liveness).
     pub adot_entries: usize,
@@ -212,6 +216,7 @@ impl Tape {
             hes_nnz: self.hes_pattern.nnz(),
             hes_colours: self.hes_colours,
             grad_entries: self.sparse.grad_len(),
+            jacobian_grad_entries: self.sparse.jacobian_grad_len(),
             adot_entries: self.sparse.adot_len(),
             map_entries: self.sparse.map_len(),
         }
@@ -304,8 +309,9 @@ impl Tape {
         check_len("Jacobian values", self.jac_pattern.nnz(), jac.len())?;
         self.forward::<1>(x, ws);
         self.write_outputs(ws, y);
-        self.sparse_forward([&ws.part], &mut ws.grad);
-        self.sparse_jacobian_extract(&ws.grad, 0, jac);
+        let plan = self.sparse.compact();
+        self.sparse_forward(plan, [&ws.part], &mut ws.grad);
+        self.sparse_jacobian_extract(plan, &ws.grad, 0, jac);
         Ok(())
     }
 
@@ -389,7 +395,7 @@ impl Tape {
         self.forward::<2>(x, ws);
         self.write_outputs(ws, y);
         self.adjoint_sweep(ws, lambda);
-        self.sparse_forward([&ws.part], &mut ws.grad);
+        self.sparse_forward(self.sparse.full(), [&ws.part], &mut ws.grad);
         let locals = sparse::LaneLocals {
             part: &ws.part,
             sec: &ws.sec,

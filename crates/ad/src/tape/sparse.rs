@@ -71,6 +71,56 @@ struct FwdStep {
     terms: Span,
 }
 
+/// A forward gradient sweep: its steps, the terms of their collapsed combinations, and
+/// where in its store the inputs' unit seeds go and the outputs' gradients end up.
+#[derive(Clone, Debug, Default)]
+pub(super) struct FwdPlan {
+    /// Active, stored operations in ascending order.
+    steps: Vec<FwdStep>,
+    /// Terms of the collapsed linear combinations of `steps`.
+    terms: Vec<Term>,
+    /// Places of the inputs' gradients (each the single entry 1).
+    seeds: Vec<u32>,
+    /// `P(o)` of each output, in output order.
+    outputs: Vec<Span>,
+    /// Length of the store.
+    len: u32,
+}
+
+impl FwdPlan {
+    /// Checks what the sweep's unchecked accesses rely on: every set lies within the
+    /// store, and no set a step reads overlaps the set it writes.
+    fn check_places(&self) {
+        let inside = |s: Span| s.start as usize + s.len as usize <= self.len as usize;
+        let apart = |s: Span, k: Span| {
+            s.len == 0 || s.start + s.len <= k.start || s.start >= k.start + k.len
+        };
+        for s in &self.steps {
+            let k = Span {
+                start: s.k,
+                len: s.k_len,
+            };
+            let mut reads = vec![
+                Span {
+                    start: s.a,
+                    len: s.a_len,
+                },
+                Span {
+                    start: s.b,
+                    len: s.b_len,
+                },
+            ];
+            reads.extend(self.terms[s.terms.range()].iter().map(|t| t.set));
+            assert!(
+                inside(k) && reads.iter().all(|&r| inside(r) && apart(r, k)),
+                "forward sweep plan: a set outside the store or read while written"
+            );
+        }
+        assert!(self.seeds.iter().all(|&i| i < self.len));
+        assert!(self.outputs.iter().all(|&o| inside(o)));
+    }
+}
+
 /// One term `c · j` of a collapsed linear combination: a stored node `j` reached from the
 /// combination's root through operations with constant partials whose intermediate
 /// results are used nowhere else (and store nothing).
@@ -155,9 +205,6 @@ struct RevStep {
 /// The static index sets and maps of the sparse sweeps of one tape.
 #[derive(Clone, Debug, Default)]
 pub(super) struct SparsePlan {
-    /// Offsets of the stored gradients `P(k)` per node (empty for collapsed and folded
-    /// nodes).
-    poff: Vec<u32>,
     /// Length of the second-order adjoint store, and of its leading part held by the
     /// inputs (the Hessian rows). The inputs' sets `R(i)` come first, one after another;
     /// the others share places by liveness (a set is placed at the first step of the
@@ -169,10 +216,13 @@ pub(super) struct SparsePlan {
     rev: Vec<RevStep>,
     /// Terms of the collapsed linear combinations of `rev`.
     rterms: Vec<Term>,
-    /// The forward gradient sweep, active operations in ascending order.
-    fwd: Vec<FwdStep>,
-    /// Terms of the collapsed linear combinations of `fwd`.
-    terms: Vec<Term>,
+    /// The forward gradient sweep that keeps every set at its own place (`poff`), which
+    /// the second-order sweep reads afterwards.
+    full: FwdPlan,
+    /// The same sweep with places reused by liveness (a set lives from its own step to
+    /// its last reader; the outputs' to the end), for Jacobians alone: a store of the
+    /// most entries live at once, small enough to stay in cache.
+    compact: FwdPlan,
     store: Vec<u32>,
     /// `(position in ȧ store, Hessian entry)` for the lower triangle, in pattern order.
     hes_extract: Vec<u32>,
@@ -404,43 +454,125 @@ impl SparsePlan {
             rev.push(step);
             rplaces.free(k);
         }
-        let mut terms = Vec::new();
-        let mut fwd = Vec::new();
-        for t in (0..ops.len()).filter(|&t| active[n_in + t] && !fcollapsed[n_in + t]) {
+        let fwd_ops: Vec<usize> = (0..ops.len())
+            .filter(|&t| active[n_in + t] && !fcollapsed[n_in + t])
+            .collect();
+        // Nodes whose stored gradients a forward step reads: its combination's leaves, or
+        // its operands.
+        let reads = |t: usize| -> Vec<u32> {
+            match &fcombos[t] {
+                Some(combo) => {
+                    // A node can be a leaf twice (through different folded partials).
+                    let mut r: Vec<u32> = combo.iter().map(|l| l.node).collect();
+                    r.dedup();
+                    r
+                }
+                None => {
+                    let [a, b] = args[t];
+                    let mut r = vec![a];
+                    if b != a {
+                        r.push(b);
+                    }
+                    r.retain(|&j| j != sink);
+                    r
+                }
+            }
+        };
+        let mut full = FwdPlan {
+            len: *poff.last().unwrap_or(&0),
+            ..FwdPlan::default()
+        };
+        let mut compact = FwdPlan::default();
+        let mut last_read = vec![usize::MAX; n];
+        for (i, &t) in fwd_ops.iter().enumerate() {
+            for j in reads(t) {
+                last_read[j as usize] = i;
+            }
+        }
+        let mut is_output = vec![false; n];
+        for &o in outputs {
+            is_output[o as usize] = true;
+        }
+        let mut slots = Slots::default();
+        let mut place = vec![Span::default(); n + 1];
+        for i in 0..n_in {
+            let s = pspan(i as u32);
+            if s.len > 0 {
+                full.seeds.push(s.start);
+                place[i] = Span {
+                    start: slots.alloc(s.len),
+                    len: s.len,
+                };
+                compact.seeds.push(place[i].start);
+            }
+        }
+        for (i, &t) in fwd_ops.iter().enumerate() {
             let [a, b] = args[t];
             let k = (n_in + t) as u32;
-            let (k0, k_len) = span(k);
-            let (a0, a_len) = span(a);
-            let (b0, b_len) = if b == a { (0, 0) } else { span(b) };
-            let mut step = FwdStep {
-                t: t as u32,
-                k: k0,
-                k_len,
-                a: a0,
-                a_len,
-                b: b0,
-                b_len,
-                fa: maps[t].fa,
-                fb: maps[t].fb,
-                same: a == b,
-                terms: Span::default(),
+            let b = if b == a { sink } else { b };
+            let len = pspan(k).len;
+            // Placed while its operands are still live, so never on top of them.
+            place[k as usize] = Span {
+                start: slots.alloc(len),
+                len,
             };
+            let cspan = |j: u32| place[j as usize];
+            let step = |span: &dyn Fn(u32) -> Span| {
+                let (ks, as_, bs) = (span(k), span(a), span(b));
+                FwdStep {
+                    t: t as u32,
+                    k: ks.start,
+                    k_len: ks.len,
+                    a: as_.start,
+                    a_len: as_.len,
+                    b: bs.start,
+                    b_len: bs.len,
+                    fa: maps[t].fa,
+                    fb: maps[t].fb,
+                    same: a == args[t][1],
+                    terms: Span::default(),
+                }
+            };
+            let mut fs = step(&|j| if j == sink { Span::default() } else { pspan(j) });
+            let mut cs = step(&cspan);
             if let Some(combo) = &fcombos[t] {
-                step.terms = push_terms(&mut terms, combo, |j| {
-                    (pspan(j), map_of(p(j), p(k), &mut store))
+                let mut tmaps = Vec::with_capacity(combo.len());
+                fs.terms = push_terms(&mut full.terms, combo, |j| {
+                    let m = map_of(p(j), p(k), &mut store);
+                    tmaps.push(m);
+                    (pspan(j), m)
+                });
+                let mut tm = tmaps.into_iter();
+                cs.terms = push_terms(&mut compact.terms, combo, |j| {
+                    (cspan(j), tm.next().expect("one map per leaf"))
                 });
             }
-            fwd.push(step);
+            full.steps.push(fs);
+            compact.steps.push(cs);
+            for j in reads(t) {
+                if last_read[j as usize] == i && !is_output[j as usize] {
+                    slots.free(place[j as usize].start, place[j as usize].len);
+                }
+            }
+            if last_read[k as usize] == usize::MAX && !is_output[k as usize] {
+                slots.free(place[k as usize].start, len);
+            }
         }
+        for &o in outputs {
+            full.outputs.push(pspan(o));
+            compact.outputs.push(place[o as usize]);
+        }
+        compact.len = slots.peak();
+        full.check_places();
+        compact.check_places();
         (
             SparsePlan {
-                poff,
                 adot_len: rplaces.slots.peak(),
                 adot_inputs,
                 rev,
                 rterms,
-                fwd,
-                terms,
+                full,
+                compact,
                 store,
                 hes_extract,
             },
@@ -450,11 +582,24 @@ impl SparsePlan {
 
     /// Length of the forward gradient store.
     pub(super) fn grad_len(&self) -> usize {
-        *self.poff.last().unwrap_or(&0) as usize
+        self.full.len as usize
+    }
+    /// Length of the forward gradient store of the Jacobian-only sweep (places reused by
+    /// liveness).
+    pub(super) fn jacobian_grad_len(&self) -> usize {
+        self.compact.len as usize
     }
     /// Length of the second-order adjoint store.
     pub(super) fn adot_len(&self) -> usize {
         self.adot_len as usize
+    }
+    /// The forward sweep that keeps every gradient set (before a second-order sweep).
+    pub(super) fn full(&self) -> &FwdPlan {
+        &self.full
+    }
+    /// The forward sweep with places reused by liveness (Jacobians alone).
+    pub(super) fn compact(&self) -> &FwdPlan {
+        &self.compact
     }
     /// Total number of stored map positions (memory report).
     pub(super) fn map_len(&self) -> usize {
@@ -649,11 +794,6 @@ fn map_opt(src: &[u32], dst: &[u32], store: &mut Vec<u32>) -> Map {
     }
 }
 
-#[inline]
-fn range(off: &[u32], k: usize) -> std::ops::Range<usize> {
-    off[k] as usize..off[k + 1] as usize
-}
-
 /// `dst[map[i]][l] += c[l] * src[i][l]` for every lane `l` (or `dst[i]` for the identity).
 #[inline(always)]
 fn axpy<const L: usize>(
@@ -706,28 +846,40 @@ pub(super) struct LaneLocals<'a> {
 }
 
 impl super::Tape {
-    /// Forward sparse gradients of every node into `g`, for `L` evaluation points at once
-    /// (lane `l` uses the partials `part[l]` of its own `forward::<1>` sweep).
+    /// Forward sparse gradients of every stored node into `g` by the sweep `plan` (the
+    /// tape's [`SparsePlan::full`] or [`SparsePlan::compact`]), for `L` evaluation points
+    /// at once (lane `l` uses the partials `part[l]` of its own `forward::<1>` sweep).
     #[inline(always)]
     pub(super) fn sparse_forward<const L: usize>(
         &self,
+        plan: &FwdPlan,
         part: [&[[f64; 2]]; L],
         g: &mut [[f64; L]],
     ) {
-        let sp = &self.sparse;
-        for i in 0..self.n_in {
-            let r = range(&sp.poff, i);
-            if !r.is_empty() {
-                g[r.start] = [1.0; L];
-            }
+        let store = &self.sparse.store;
+        assert!(
+            g.len() >= plan.len as usize,
+            "gradient store shorter than the plan"
+        );
+        for &i in &plan.seeds {
+            g[i as usize] = [1.0; L];
         }
-        for s in &sp.fwd {
+        let base = g.as_mut_ptr();
+        for s in &plan.steps {
+            // SAFETY: every span of the plan lies within its `len` entries (checked when the
+            // plan was built, and `g` is at least that long, asserted above), and the result's
+            // set is disjoint from every set its step reads (operands precede it, or were
+            // placed before it and are still live), so the one mutable and the shared slices
+            // never overlap; `g` is not used otherwise while they exist.
+            let gk =
+                unsafe { std::slice::from_raw_parts_mut(base.add(s.k as usize), s.k_len as usize) };
+            let read = |start: u32, len: u32| -> &[[f64; L]] {
+                // SAFETY: as above.
+                unsafe { std::slice::from_raw_parts(base.add(start as usize), len as usize) }
+            };
             if s.terms.len > 0 {
-                // Operands precede the result in the store: split there.
-                let (lo, hi) = g.split_at_mut(s.k as usize);
-                let gk = &mut hi[..s.k_len as usize];
                 gk.iter_mut().for_each(|x| *x = [0.0; L]);
-                for term in &sp.terms[s.terms.range()] {
+                for term in &plan.terms[s.terms.range()] {
                     let w = term.w;
                     let mut c = [w.coef; L];
                     if w.side != 0 {
@@ -735,7 +887,7 @@ impl super::Tape {
                             c[l] *= partial_of(w.side, part[l][w.part as usize]);
                         }
                     }
-                    axpy(gk, &lo[term.set.range()], c, term.map, &sp.store);
+                    axpy(gk, read(term.set.start, term.set.len), c, term.map, store);
                 }
                 continue;
             }
@@ -746,10 +898,7 @@ impl super::Tape {
                 ca[l] = if s.same { pa + pb } else { pa };
                 cb[l] = pb;
             }
-            // Operands precede the result in the store: split there.
-            let (lo, hi) = g.split_at_mut(s.k as usize);
-            let gk = &mut hi[..s.k_len as usize];
-            let ga = &lo[s.a as usize..(s.a + s.a_len) as usize];
+            let ga = read(s.a, s.a_len);
             if s.a_len > 0 && s.fa.ident {
                 // Same index set as the result: write, no zeroing needed.
                 for (d, x) in gk.iter_mut().zip(ga) {
@@ -760,27 +909,27 @@ impl super::Tape {
             } else {
                 gk.iter_mut().for_each(|x| *x = [0.0; L]);
                 if s.a_len > 0 {
-                    axpy(gk, ga, ca, s.fa, &sp.store);
+                    axpy(gk, ga, ca, s.fa, store);
                 }
             }
             if s.b_len > 0 {
-                let gb = &lo[s.b as usize..(s.b + s.b_len) as usize];
-                axpy(gk, gb, cb, s.fb, &sp.store);
+                axpy(gk, read(s.b, s.b_len), cb, s.fb, store);
             }
         }
     }
 
-    /// Copies the Jacobian rows (forward sparse gradients of the outputs) of lane `lane`.
+    /// Copies the Jacobian rows (forward sparse gradients of the outputs, left in `g` by
+    /// the sweep `plan`) of lane `lane`.
     pub(super) fn sparse_jacobian_extract<const L: usize>(
         &self,
+        plan: &FwdPlan,
         g: &[[f64; L]],
         lane: usize,
         jac: &mut [f64],
     ) {
-        let sp = &self.sparse;
         let mut e = 0;
-        for &o in &self.outputs {
-            for v in &g[range(&sp.poff, o as usize)] {
+        for o in &plan.outputs {
+            for v in &g[o.range()] {
                 jac[e] = v[lane];
                 e += 1;
             }
@@ -874,10 +1023,11 @@ impl super::Tape {
     /// the processor has them ([`with_wide_vectors`]).
     pub(super) fn sparse_forward_batch<const L: usize>(
         &self,
+        plan: &FwdPlan,
         part: [&[[f64; 2]]; L],
         g: &mut [[f64; L]],
     ) {
-        with_wide_vectors(|| self.sparse_forward(part, g))
+        with_wide_vectors(|| self.sparse_forward(plan, part, g))
     }
 
     /// [`super::Tape::sparse_hessian`] for a batch of `L` lanes, with wide vectors when
