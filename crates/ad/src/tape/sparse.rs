@@ -216,8 +216,8 @@ pub(super) struct SparsePlan {
     rev: Vec<RevStep>,
     /// Terms of the collapsed linear combinations of `rev`.
     rterms: Vec<Term>,
-    /// The forward gradient sweep that keeps every set at its own place (`poff`), which
-    /// the second-order sweep reads afterwards.
+    /// The forward gradient sweep that keeps every set at its own place (node order), for
+    /// the second-order sweep that reads them afterwards.
     full: FwdPlan,
     /// The same sweep with places reused by liveness (a set lives from its own step to
     /// its last reader; the outputs' to the end), for Jacobians alone: a store of the
