@@ -100,19 +100,11 @@ impl FwdPlan {
                 start: s.k,
                 len: s.k_len,
             };
-            let mut reads = vec![
-                Span {
-                    start: s.a,
-                    len: s.a_len,
-                },
-                Span {
-                    start: s.b,
-                    len: s.b_len,
-                },
-            ];
-            reads.extend(self.terms[s.terms.range()].iter().map(|t| t.set));
+            let operands = [(s.a, s.a_len), (s.b, s.b_len)].map(|(start, len)| Span { start, len });
+            let terms = self.terms[s.terms.range()].iter().map(|t| t.set);
+            let mut reads = operands.into_iter().chain(terms);
             assert!(
-                inside(k) && reads.iter().all(|&r| inside(r) && apart(r, k)),
+                inside(k) && reads.all(|r| inside(r) && apart(r, k)),
                 "forward sweep plan: a set outside the store or read while written"
             );
         }
@@ -354,7 +346,7 @@ impl SparsePlan {
         }
         // Places of the R sets: the inputs' first (the Hessian rows, read at the end); the
         // others are placed while the reverse sweep is planned below.
-        let mut rplaces = RPlaces::new(n, |k| {
+        let mut rplaces = Places::new(n, |k| {
             if collapsed[k] {
                 0
             } else {
@@ -381,16 +373,17 @@ impl SparsePlan {
                 }
             }
         }
-        let span = |k: u32| {
-            if k == sink {
-                (0, 0)
-            } else {
-                (poff[k as usize], poff[k as usize + 1] - poff[k as usize])
-            }
-        };
+        // `P(k)` in the full forward store (empty for the sink).
         let pspan = |k: u32| {
-            let (start, len) = span(k);
-            Span { start, len }
+            if k == sink {
+                Span::default()
+            } else {
+                let (start, end) = (poff[k as usize], poff[k as usize + 1]);
+                Span {
+                    start,
+                    len: end - start,
+                }
+            }
         };
         // Collapsed combinations per root, leaves merged in ascending node order: `rcombos`
         // through linear nodes only (reverse sweep), `fcombos` also through folded
@@ -493,31 +486,21 @@ impl SparsePlan {
         for &o in outputs {
             is_output[o as usize] = true;
         }
-        let mut slots = Slots::default();
-        let mut place = vec![Span::default(); n + 1];
-        for i in 0..n_in {
-            let s = pspan(i as u32);
+        let mut places = Places::new(n, |k| pspan(k as u32).len);
+        for i in 0..n_in as u32 {
+            let s = pspan(i);
             if s.len > 0 {
                 full.seeds.push(s.start);
-                place[i] = Span {
-                    start: slots.alloc(s.len),
-                    len: s.len,
-                };
-                compact.seeds.push(place[i].start);
+                compact.seeds.push(places.place(i).start);
             }
         }
         for (i, &t) in fwd_ops.iter().enumerate() {
             let [a, b] = args[t];
             let k = (n_in + t) as u32;
             let b = if b == a { sink } else { b };
-            let len = pspan(k).len;
             // Placed while its operands are still live, so never on top of them.
-            place[k as usize] = Span {
-                start: slots.alloc(len),
-                len,
-            };
-            let cspan = |j: u32| place[j as usize];
-            let step = |span: &dyn Fn(u32) -> Span| {
+            places.place(k);
+            let step = |span: &mut dyn FnMut(u32) -> Span| {
                 let (ks, as_, bs) = (span(k), span(a), span(b));
                 FwdStep {
                     t: t as u32,
@@ -533,8 +516,8 @@ impl SparsePlan {
                     terms: Span::default(),
                 }
             };
-            let mut fs = step(&|j| if j == sink { Span::default() } else { pspan(j) });
-            let mut cs = step(&cspan);
+            let mut fs = step(&mut |j| pspan(j));
+            let mut cs = step(&mut |j| places.place(j));
             if let Some(combo) = &fcombos[t] {
                 let mut tmaps = Vec::with_capacity(combo.len());
                 fs.terms = push_terms(&mut full.terms, combo, |j| {
@@ -544,25 +527,25 @@ impl SparsePlan {
                 });
                 let mut tm = tmaps.into_iter();
                 cs.terms = push_terms(&mut compact.terms, combo, |j| {
-                    (cspan(j), tm.next().expect("one map per leaf"))
+                    (places.place(j), tm.next().expect("one map per leaf"))
                 });
             }
             full.steps.push(fs);
             compact.steps.push(cs);
             for j in reads(t) {
                 if last_read[j as usize] == i && !is_output[j as usize] {
-                    slots.free(place[j as usize].start, place[j as usize].len);
+                    places.free(j);
                 }
             }
             if last_read[k as usize] == usize::MAX && !is_output[k as usize] {
-                slots.free(place[k as usize].start, len);
+                places.free(k);
             }
         }
         for &o in outputs {
             full.outputs.push(pspan(o));
-            compact.outputs.push(place[o as usize]);
+            compact.outputs.push(places.place(o));
         }
-        compact.len = slots.peak();
+        compact.len = places.slots.peak();
         full.check_places();
         compact.check_places();
         (
@@ -607,25 +590,26 @@ impl SparsePlan {
     }
 }
 
-/// Places of the second-order adjoint sets `R(k)` in their store ([`Slots`]), given out in
-/// the order the reverse sweep first touches them.
-struct RPlaces<F> {
+/// Places of per-node index sets in a store ([`Slots`]) shared by liveness, given out in
+/// the order a sweep first touches them: the second-order adjoint sets `R(k)` of the
+/// reverse sweep, the gradient sets `P(k)` of the Jacobian-only forward sweep.
+struct Places<F> {
     slots: Slots,
     span: Vec<Option<Span>>,
-    /// Stored length of `R(k)` (0 for collapsed nodes).
+    /// Stored length of node `k`'s set (0 for collapsed nodes).
     len: F,
 }
 
-impl<F: Fn(usize) -> u32> RPlaces<F> {
+impl<F: Fn(usize) -> u32> Places<F> {
     fn new(n: usize, len: F) -> Self {
-        RPlaces {
+        Places {
             slots: Slots::default(),
             span: vec![None; n],
             len,
         }
     }
 
-    /// The place of `R(k)`, given out on the first call (empty for the sink).
+    /// The place of node `k`'s set, given out on the first call (empty for the sink).
     fn place(&mut self, k: u32) -> Span {
         let Some(entry) = self.span.get_mut(k as usize) else {
             return Span::default();
@@ -639,7 +623,7 @@ impl<F: Fn(usize) -> u32> RPlaces<F> {
         })
     }
 
-    /// Gives the place of `R(k)` back (after its own step).
+    /// Gives the place of node `k`'s set back (after its last use).
     fn free(&mut self, k: u32) {
         if let Some(Some(s)) = self.span.get(k as usize) {
             self.slots.free(s.start, s.len);
