@@ -18,6 +18,8 @@ use faer::sparse::linalg::cholesky::{
     SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
+
+use super::bottom::{Bottom, BOTTOM_WIDTH};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 use thiserror::Error;
@@ -120,6 +122,60 @@ fn symmetric_ordering<'a>(
     }
 }
 
+/// The pattern of the transpose of a square CSC pattern (`col_ptr`, `row_idx`): the upper
+/// triangle of a symmetric matrix given by its lower one.
+fn transpose_pattern(col_ptr: &[usize], row_idx: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let dim = col_ptr.len() - 1;
+    let mut t_ptr = vec![0usize; dim + 1];
+    for &r in row_idx {
+        t_ptr[r + 1] += 1;
+    }
+    for k in 0..dim {
+        t_ptr[k + 1] += t_ptr[k];
+    }
+    let mut next = t_ptr.clone();
+    let mut t_idx = vec![0usize; row_idx.len()];
+    for c in 0..dim {
+        for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
+            t_idx[next[r]] = c;
+            next[r] += 1;
+        }
+    }
+    (t_ptr, t_idx)
+}
+
+/// faer's symbolic analysis of a lower-triangular CSC pattern already in elimination order
+/// (supernodal whatever its size when `supernodal`, else as faer's flop heuristic chooses).
+fn symbolic_in_order(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    supernodal: bool,
+) -> Result<SymbolicCholesky<usize>, LinearSolverError> {
+    let dim = col_ptr.len() - 1;
+    let (up_ptr, up_idx) = transpose_pattern(col_ptr, row_idx);
+    let upper = SymbolicSparseColMatRef::new_unsorted_checked(dim, dim, &up_ptr, None, &up_idx);
+    let mut params = CholeskySymbolicParams::default();
+    if supernodal {
+        params.supernodal_flop_ratio_threshold = SupernodalThreshold::FORCE_SUPERNODAL;
+    }
+    factorize_symbolic_cholesky(upper, Side::Upper, SymmetricOrdering::Identity, params)
+        .map_err(|e| LinearSolverError::Symbolic(format!("{e:?}")))
+}
+
+/// Supernodes of a supernodal symbolic factor as (first column, end column, pattern rows);
+/// empty for a simplicial one.
+fn supernode_list(sym: &SymbolicCholesky<usize>) -> Vec<(usize, usize, Vec<usize>)> {
+    match sym.raw() {
+        SymbolicCholeskyRaw::Supernodal(s) => (0..s.n_supernodes())
+            .map(|k| {
+                let (b, e) = (s.supernode_begin()[k], s.supernode_end()[k]);
+                (b, e, s.supernode(k).pattern().to_vec())
+            })
+            .collect(),
+        SymbolicCholeskyRaw::Simplicial(_) => Vec::new(),
+    }
+}
+
 /// A lower-triangular CSC matrix symmetrically permuted once, in the symbolic analysis: the
 /// pattern of P A Pᵀ, where each input entry goes, and room for its values. faer permutes
 /// its input on every numeric factorisation when it holds the ordering (~4 % of a
@@ -186,27 +242,6 @@ impl Permuted {
         }
     }
 
-    /// The upper triangle of the permuted pattern (what faer's symbolic analysis reads).
-    fn upper_pattern(&self) -> (Vec<usize>, Vec<usize>) {
-        let dim = self.order.len();
-        let mut col_ptr = vec![0usize; dim + 1];
-        for &r in &self.row_idx {
-            col_ptr[r + 1] += 1;
-        }
-        for k in 0..dim {
-            col_ptr[k + 1] += col_ptr[k];
-        }
-        let mut next = col_ptr.clone();
-        let mut row_idx = vec![0usize; self.row_idx.len()];
-        for c in 0..dim {
-            for &r in &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]] {
-                row_idx[next[r]] = c;
-                next[r] += 1;
-            }
-        }
-        (col_ptr, row_idx)
-    }
-
     /// Copies the input values into the permuted pattern.
     fn scatter(&mut self, values: &[f64]) {
         for (&p, &v) in self.place.iter().zip(values) {
@@ -215,6 +250,36 @@ impl Permuted {
             }
         }
     }
+}
+
+/// Supernodes (columns, for a simplicial factor), floating-point operations of one numeric
+/// factorisation (Σ over columns of the squared count of entries below the diagonal, the
+/// usual Cholesky count) and entries of L of a symbolic factor.
+fn symbolic_stats(sym: &SymbolicCholesky<usize>) -> (usize, f64, usize) {
+    let mut flops = 0.0;
+    let units = match sym.raw() {
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            for k in 0..s.n_supernodes() {
+                let below = s.supernode(k).pattern().len();
+                let ncols = s.supernode_end()[k] - s.supernode_begin()[k];
+                // the supernode's columns have below + ncols − 1, …, below entries below
+                // their diagonals
+                for c in below..below + ncols {
+                    flops += (c * c) as f64;
+                }
+            }
+            s.n_supernodes()
+        }
+        SymbolicCholeskyRaw::Simplicial(s) => {
+            let cp = s.col_ptr();
+            for j in 0..s.ncols() {
+                let c = (cp[j + 1] - cp[j]).saturating_sub(1) as f64;
+                flops += c * c;
+            }
+            s.ncols()
+        }
+    };
+    (units, flops, sym.len_val())
 }
 
 /// faer's sparse LDLᵀ (AMD or a given ordering, supernodal or simplicial by faer's flop heuristic),
@@ -226,6 +291,14 @@ pub struct FaerLdlt {
     /// The matrix in the given elimination order, when there is one (faer then factorises
     /// it as is, without permuting the input on every factorisation).
     permuted: Option<Permuted>,
+    /// The small supernodes at the bottom of the elimination tree, eliminated before faer
+    /// factorises the rest (with a given ordering only).
+    bottom: Option<Bottom>,
+    /// Supernodes, floating-point operations and L entries of the whole factor.
+    stats: Option<(usize, f64, usize)>,
+    /// Right-hand sides of the reduced matrix (after the bottom's forward substitution).
+    reduced_rhs: Vec<f64>,
+    /// faer's symbolic factor of what it factorises (the reduced matrix with a bottom).
     symbolic: Option<SymbolicCholesky<usize>>,
     l_values: Vec<f64>,
     /// Scratch for the numeric factorisation.
@@ -242,6 +315,9 @@ impl Default for FaerLdlt {
             col_ptr: Vec::new(),
             row_idx: Vec::new(),
             permuted: None,
+            bottom: None,
+            stats: None,
+            reduced_rhs: Vec::new(),
             symbolic: None,
             l_values: Vec::new(),
             buffer: MemBuffer::new(StackReq::empty()),
@@ -261,31 +337,12 @@ impl FaerLdlt {
     /// numeric factorisation (Σ over columns of the squared count of entries below the
     /// diagonal, the usual Cholesky count), or None before `analyse`.
     pub fn factor_stats(&self) -> Option<(usize, f64)> {
-        let sym = self.symbolic.as_ref()?;
-        let mut flops = 0.0;
-        let units = match sym.raw() {
-            SymbolicCholeskyRaw::Supernodal(s) => {
-                for k in 0..s.n_supernodes() {
-                    let below = s.supernode(k).pattern().len();
-                    let ncols = s.supernode_end()[k] - s.supernode_begin()[k];
-                    // the supernode's columns have below + ncols − 1, …, below entries below
-                    // their diagonals
-                    for c in below..below + ncols {
-                        flops += (c * c) as f64;
-                    }
-                }
-                s.n_supernodes()
-            }
-            SymbolicCholeskyRaw::Simplicial(s) => {
-                let cp = s.col_ptr();
-                for j in 0..s.ncols() {
-                    let c = (cp[j + 1] - cp[j]).saturating_sub(1) as f64;
-                    flops += c * c;
-                }
-                s.ncols()
-            }
-        };
-        Some((units, flops))
+        self.stats.map(|(units, flops, _)| (units, flops))
+    }
+
+    /// Columns eliminated before faer (the bottom of the elimination tree), 0 without.
+    pub fn bottom_columns(&self) -> usize {
+        self.bottom.as_ref().map_or(0, Bottom::eliminated)
     }
 
     /// Inertia from the signs of D, or None when a pivot is not finite. A non-finite entry
@@ -355,32 +412,39 @@ impl KktSolver for FaerLdlt {
             None,
             &self.row_idx,
         );
-        let symbolic_error = |e| LinearSolverError::Symbolic(format!("{e:?}"));
         let sym = match ordering {
             Some(order) => {
                 let inverse = inverse_permutation(order)?;
                 let permuted = Permuted::new(col_ptr, row_idx, order, &inverse);
-                let (up_ptr, up_idx) = permuted.upper_pattern();
-                let upper =
-                    SymbolicSparseColMatRef::new_unsorted_checked(dim, dim, &up_ptr, None, &up_idx);
+                // supernodal for the bottom's partition even where faer would factorise a
+                // small matrix column by column
+                let full = symbolic_in_order(&permuted.col_ptr, &permuted.row_idx, true)?;
+                self.stats = Some(symbolic_stats(&full));
+                self.bottom = Bottom::new(
+                    &permuted.col_ptr,
+                    &permuted.row_idx,
+                    &permuted.place,
+                    &supernode_list(&full),
+                    BOTTOM_WIDTH,
+                );
                 self.permuted = Some(permuted);
-                factorize_symbolic_cholesky(
-                    upper,
-                    Side::Upper,
-                    SymmetricOrdering::Identity,
-                    CholeskySymbolicParams::default(),
-                )
-                .map_err(symbolic_error)?
+                match &self.bottom {
+                    Some(b) => symbolic_in_order(&b.col_ptr, &b.row_idx, false)?,
+                    None => full,
+                }
             }
             None => {
                 self.permuted = None;
-                factorize_symbolic_cholesky(
+                self.bottom = None;
+                let sym = factorize_symbolic_cholesky(
                     a,
                     Side::Lower,
                     SymmetricOrdering::Amd,
                     CholeskySymbolicParams::default(),
                 )
-                .map_err(symbolic_error)?
+                .map_err(|e| LinearSolverError::Symbolic(format!("{e:?}")))?;
+                self.stats = Some(symbolic_stats(&sym));
+                sym
             }
         };
         self.l_values = vec![0.0; sym.len_val()];
@@ -399,21 +463,38 @@ impl KktSolver for FaerLdlt {
             .symbolic
             .as_ref()
             .ok_or(LinearSolverError::NotReady("analyse"))?;
-        let (col_ptr, row_idx, values) = match self.permuted.as_mut() {
-            Some(p) => {
+        // the pivots of the bottom's columns, when there is a bottom
+        let mut bottom_pivots = (0, 0);
+        let (fdim, col_ptr, row_idx, values) = match (self.permuted.as_mut(), self.bottom.as_mut())
+        {
+            (Some(p), bottom) => {
                 assert_eq!(
                     values.len(),
                     p.place.len(),
                     "KKT values do not match the pattern"
                 );
-                p.scatter(values);
-                (&p.col_ptr, &p.row_idx, &p.values[..])
+                match bottom {
+                    Some(b) => match b.eliminate(values) {
+                        Some(pivots) => {
+                            bottom_pivots = pivots;
+                            let (col_ptr, row_idx) = (&b.col_ptr, &b.row_idx);
+                            (b.kept.len(), col_ptr, row_idx, b.reduced_values())
+                        }
+                        None => {
+                            self.factored = false;
+                            return Ok(Inertia::singular(self.dim));
+                        }
+                    },
+                    None => {
+                        p.scatter(values);
+                        (self.dim, &p.col_ptr, &p.row_idx, &p.values[..])
+                    }
+                }
             }
-            None => (&self.col_ptr, &self.row_idx, values),
+            (None, _) => (self.dim, &self.col_ptr, &self.row_idx, values),
         };
-        let a_sym = SymbolicSparseColMatRef::new_unsorted_checked(
-            self.dim, self.dim, col_ptr, None, row_idx,
-        );
+        let a_sym =
+            SymbolicSparseColMatRef::new_unsorted_checked(fdim, fdim, col_ptr, None, row_idx);
         let a = SparseColMatRef::new(a_sym, values);
         let stack = MemStack::new(&mut self.buffer);
         let res = sym.factorize_numeric_ldlt(
@@ -427,7 +508,11 @@ impl KktSolver for FaerLdlt {
         );
         // a failed factorisation or a non-finite pivot: singular, no solves
         let inertia = if res.is_ok() {
-            self.inertia_of_d()
+            self.inertia_of_d().map(|i| Inertia {
+                positive: i.positive + bottom_pivots.0,
+                negative: i.negative + bottom_pivots.1,
+                zero: i.zero,
+            })
         } else {
             None
         };
@@ -470,9 +555,40 @@ impl KktSolver for FaerLdlt {
                         *d = src[v];
                     }
                 }
-                let mat =
-                    MatMut::from_column_major_slice_mut(&mut p.rhs[..dim * ncols], dim, ncols);
-                l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
+                match &self.bottom {
+                    Some(b) => {
+                        // bottom forward, the reduced matrix's solve on the kept entries,
+                        // bottom pivots and backward
+                        b.forward(&mut p.rhs, dim, ncols);
+                        let m = b.kept.len();
+                        self.reduced_rhs.resize(m * ncols, 0.0);
+                        for (y, z) in p.rhs.chunks(dim).zip(self.reduced_rhs.chunks_mut(m)) {
+                            for (zk, &c) in z.iter_mut().zip(&b.kept) {
+                                *zk = y[c];
+                            }
+                        }
+                        let mat = MatMut::from_column_major_slice_mut(
+                            &mut self.reduced_rhs[..m * ncols],
+                            m,
+                            ncols,
+                        );
+                        l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
+                        for (z, y) in self.reduced_rhs.chunks(m).zip(p.rhs.chunks_mut(dim)) {
+                            for (&zk, &c) in z.iter().zip(&b.kept) {
+                                y[c] = zk;
+                            }
+                        }
+                        b.backward(&mut p.rhs, dim, ncols);
+                    }
+                    None => {
+                        let mat = MatMut::from_column_major_slice_mut(
+                            &mut p.rhs[..dim * ncols],
+                            dim,
+                            ncols,
+                        );
+                        l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
+                    }
+                }
                 for (src, dst) in p.rhs.chunks(dim).zip(rhs.chunks_mut(dim)) {
                     for (&s, &v) in src.iter().zip(&p.order) {
                         dst[v] = s;
@@ -488,7 +604,7 @@ impl KktSolver for FaerLdlt {
     }
 
     fn factor_nnz(&self) -> usize {
-        self.l_values.len()
+        self.stats.map_or(0, |(_, _, nnz)| nnz)
     }
 }
 
@@ -886,6 +1002,12 @@ mod tests {
         given
             .analyse(dim, &col_ptr, &row_idx, Some(&order))
             .unwrap();
+        // the constraints first: some columns are eliminated before faer, not all
+        let bottom = given.bottom_columns();
+        assert!(
+            bottom > 0 && bottom < dim,
+            "{bottom} of {dim} columns in the bottom"
+        );
         for s in [&mut own, &mut given] {
             let inertia = s.factor(&vals).unwrap();
             assert_eq!(
@@ -902,6 +1024,14 @@ mod tests {
             for (got, want) in x1.iter().zip(&xs[dim..2 * dim]) {
                 assert!((got - want).abs() < 1e-10, "{got} vs {want}");
             }
+        }
+        // a non-finite entry anywhere (bottom or reduced part) makes the matrix singular
+        for pos in [0, vals.len() / 2, vals.len() - 1] {
+            let mut bad = vals.clone();
+            bad[pos] = f64::NAN;
+            let inertia = given.factor(&bad).unwrap();
+            assert_eq!(inertia.zero, dim, "NaN at entry {pos}");
+            assert!(given.solve(&mut b[..dim].to_vec()).is_err());
         }
         // a factorisation with other values reuses the permuted pattern
         let scaled: Vec<f64> = vals.iter().map(|v| 2.0 * v).collect();

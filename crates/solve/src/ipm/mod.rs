@@ -8,6 +8,7 @@
 //! - [`scaled`]: gradient-based problem scaling and evaluation accounting.
 
 pub mod algorithm;
+mod bottom;
 pub mod kkt;
 pub mod lbfgs;
 pub mod linsys;
