@@ -300,49 +300,218 @@ impl Bottom {
         &self.vals[self.front_len..]
     }
 
-    /// Global row of local row `i` of node `n`'s front.
-    #[inline]
-    fn row(&self, n: &Node, i: usize) -> usize {
-        if i < n.width {
-            n.begin + i
-        } else {
-            self.rows[n.rows + i - n.width]
+    /// Forward substitution with the fronts' unit lower triangle, for `nc` right-hand
+    /// sides interleaved row by row (`y[r * nc + col]`, permuted order): the `nc` values of
+    /// a row share cache lines, so the scattered rows of the fronts are read once for all
+    /// columns. `yc` is scratch.
+    pub(super) fn forward(&self, y: &mut [f64], nc: usize, yc: &mut Vec<f64>) {
+        if nc == 1 {
+            return self.forward_one(y);
         }
-    }
-
-    /// Forward substitution with the fronts' unit lower triangle, for `ncols` right-hand
-    /// sides of length `dim` stored one after another (permuted order).
-    pub(super) fn forward(&self, y: &mut [f64], dim: usize, ncols: usize) {
+        yc.resize(nc, 0.0);
         for n in &self.nodes {
             let ld = n.width + n.below;
             let f = &self.vals[n.front..n.front + ld * n.width];
-            for col in y.chunks_mut(dim).take(ncols) {
-                for c in 0..n.width {
-                    let yc = col[n.begin + c];
-                    if yc != 0.0 {
-                        for i in c + 1..ld {
-                            col[self.row(n, i)] -= f[c * ld + i] * yc;
-                        }
-                    }
+            let pattern = &self.rows[n.rows..n.rows + n.below];
+            for c in 0..n.width {
+                let lc = &f[c * ld..(c + 1) * ld];
+                let own = (n.begin + c) * nc;
+                yc.copy_from_slice(&y[own..own + nc]);
+                let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
+                for (&l, r) in l_own.iter().zip(n.begin + c + 1..) {
+                    sub_scaled(&mut y[r * nc..(r + 1) * nc], l, yc);
+                }
+                for (&l, &r) in l_pattern.iter().zip(pattern) {
+                    sub_scaled(&mut y[r * nc..(r + 1) * nc], l, yc);
                 }
             }
         }
     }
 
     /// Division by the fronts' pivots and backward substitution with their transposed unit
-    /// lower triangle (after the reduced matrix's solve has set the kept entries).
-    pub(super) fn backward(&self, y: &mut [f64], dim: usize, ncols: usize) {
+    /// lower triangle (after the reduced matrix's solve has set the kept entries), on
+    /// right-hand sides interleaved as for [`Bottom::forward`]. `x` is scratch.
+    pub(super) fn backward(&self, y: &mut [f64], nc: usize, x: &mut Vec<f64>) {
+        if nc == 1 {
+            return self.backward_one(y);
+        }
+        x.resize(nc, 0.0);
         for n in self.nodes.iter().rev() {
             let ld = n.width + n.below;
             let f = &self.vals[n.front..n.front + ld * n.width];
-            for col in y.chunks_mut(dim).take(ncols) {
-                for c in (0..n.width).rev() {
-                    let mut x = col[n.begin + c] / f[c * ld + c];
-                    for i in c + 1..ld {
-                        x -= f[c * ld + i] * col[self.row(n, i)];
-                    }
-                    col[n.begin + c] = x;
+            let pattern = &self.rows[n.rows..n.rows + n.below];
+            for c in (0..n.width).rev() {
+                let lc = &f[c * ld..(c + 1) * ld];
+                let own = (n.begin + c) * nc;
+                for (xv, &t) in x.iter_mut().zip(&y[own..own + nc]) {
+                    *xv = t / lc[c];
                 }
+                let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
+                for (&l, r) in l_own.iter().zip(n.begin + c + 1..) {
+                    sub_scaled(x, l, &y[r * nc..(r + 1) * nc]);
+                }
+                for (&l, &r) in l_pattern.iter().zip(pattern) {
+                    sub_scaled(x, l, &y[r * nc..(r + 1) * nc]);
+                }
+                y[own..own + nc].copy_from_slice(x);
+            }
+        }
+    }
+
+    /// [`Bottom::forward`] for one right-hand side.
+    fn forward_one(&self, y: &mut [f64]) {
+        for n in &self.nodes {
+            let ld = n.width + n.below;
+            let f = &self.vals[n.front..n.front + ld * n.width];
+            let pattern = &self.rows[n.rows..n.rows + n.below];
+            for c in 0..n.width {
+                let yc = y[n.begin + c];
+                if yc == 0.0 {
+                    continue;
+                }
+                let lc = &f[c * ld..(c + 1) * ld];
+                let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
+                for (&l, r) in l_own.iter().zip(n.begin + c + 1..) {
+                    y[r] -= l * yc;
+                }
+                for (&l, &r) in l_pattern.iter().zip(pattern) {
+                    y[r] -= l * yc;
+                }
+            }
+        }
+    }
+
+    /// [`Bottom::backward`] for one right-hand side.
+    fn backward_one(&self, y: &mut [f64]) {
+        for n in self.nodes.iter().rev() {
+            let ld = n.width + n.below;
+            let f = &self.vals[n.front..n.front + ld * n.width];
+            let pattern = &self.rows[n.rows..n.rows + n.below];
+            for c in (0..n.width).rev() {
+                let lc = &f[c * ld..(c + 1) * ld];
+                let mut x = y[n.begin + c] / lc[c];
+                let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
+                for (&l, r) in l_own.iter().zip(n.begin + c + 1..) {
+                    x -= l * y[r];
+                }
+                for (&l, &r) in l_pattern.iter().zip(pattern) {
+                    x -= l * y[r];
+                }
+                y[n.begin + c] = x;
+            }
+        }
+    }
+}
+
+/// `dst -= l * src`, element by element (one row of interleaved right-hand sides).
+#[inline(always)]
+fn sub_scaled(dst: &mut [f64], l: f64, src: &[f64]) {
+    for (d, &v) in dst.iter_mut().zip(src) {
+        *d -= l * v;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Solution of the dense system `a x = b` (`n × n`, row-major) by Gaussian elimination
+    /// with partial pivoting.
+    fn dense_solve(mut a: Vec<f64>, mut b: Vec<f64>, n: usize) -> Vec<f64> {
+        for k in 0..n {
+            let p = (k..n)
+                .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
+                .unwrap();
+            for c in 0..n {
+                a.swap(k * n + c, p * n + c);
+            }
+            b.swap(k, p);
+            for i in k + 1..n {
+                let f = a[i * n + k] / a[k * n + k];
+                for c in k..n {
+                    a[i * n + c] -= f * a[k * n + c];
+                }
+                b[i] -= f * b[k];
+            }
+        }
+        for k in (0..n).rev() {
+            let s: f64 = (k + 1..n).map(|c| a[k * n + c] * b[c]).sum();
+            b[k] = (b[k] - s) / a[k * n + k];
+        }
+        b
+    }
+
+    #[test]
+    fn fronts_give_the_schur_complement_and_the_solution_of_a_dense_elimination() {
+        // A (5 × 5, symmetric, indefinite): a two-column supernode {0, 1} with pattern rows
+        // {3, 4} (entry (3, 1) is fill), a one-column supernode {2} with pattern row {3},
+        // and the root {3, 4} left to the reduced matrix
+        let a = [
+            [4.0, 1.0, 0.0, 1.0, 1.0],
+            [1.0, 5.0, 0.0, 0.0, 2.0],
+            [0.0, 0.0, -3.0, 1.0, 0.0],
+            [1.0, 0.0, 1.0, 6.0, 1.0],
+            [1.0, 2.0, 0.0, 1.0, 7.0],
+        ];
+        let col_ptr = [0, 4, 6, 8, 10, 11];
+        let row_idx = [0, 1, 3, 4, 1, 4, 2, 3, 3, 4, 4];
+        let values: Vec<f64> = (0..5)
+            .flat_map(|c| {
+                row_idx[col_ptr[c]..col_ptr[c + 1]]
+                    .iter()
+                    .map(move |&r| (r, c))
+            })
+            .map(|(r, c)| a[r][c])
+            .collect();
+        let place: Vec<usize> = (0..values.len()).collect();
+        let supernodes = vec![(0, 2, vec![3, 4]), (2, 3, vec![3]), (3, 5, vec![])];
+        let mut b = Bottom::new(&col_ptr, &row_idx, &place, &supernodes, 8).unwrap();
+        assert_eq!((b.eliminated(), b.kept.clone()), (3, vec![3, 4]));
+        // pivots: 4, 5 − 1/4 > 0 and −3 < 0
+        assert_eq!(b.eliminate(&values), Some((2, 1)));
+        // Schur complement S = A22 − A21 A11⁻¹ A12 on {3, 4}, column by column
+        let a11: Vec<f64> = (0..3).flat_map(|r| (0..3).map(move |c| a[r][c])).collect();
+        for (k, &c) in [3usize, 4].iter().enumerate() {
+            let x = dense_solve(a11.clone(), (0..3).map(|r| a[r][c]).collect(), 3);
+            for p in b.col_ptr[k]..b.col_ptr[k + 1] {
+                let r = b.kept[b.row_idx[p]];
+                let want = a[r][c] - (0..3).map(|i| a[r][i] * x[i]).sum::<f64>();
+                let got = b.reduced_values()[p];
+                assert!((got - want).abs() < 1e-12, "S({r}, {c}): {got} vs {want}");
+            }
+        }
+        // two right-hand sides, interleaved: fronts forward, the reduced solve, backward
+        let rhs = [[1.0, -2.0, 3.0, 0.5, 4.0], [0.0, 1.0, -1.0, 2.0, -3.0]];
+        let mut y: Vec<f64> = (0..5).flat_map(|r| [rhs[0][r], rhs[1][r]]).collect();
+        let mut scratch = Vec::new();
+        b.forward(&mut y, 2, &mut scratch);
+        let s: Vec<f64> = {
+            let mut s = vec![0.0; 4];
+            for k in 0..2 {
+                for p in b.col_ptr[k]..b.col_ptr[k + 1] {
+                    let r = b.row_idx[p];
+                    s[r * 2 + k] = b.reduced_values()[p];
+                    s[k * 2 + r] = b.reduced_values()[p];
+                }
+            }
+            s
+        };
+        for col in 0..2 {
+            let z = dense_solve(s.clone(), vec![y[3 * 2 + col], y[4 * 2 + col]], 2);
+            y[3 * 2 + col] = z[0];
+            y[4 * 2 + col] = z[1];
+        }
+        b.backward(&mut y, 2, &mut scratch);
+        let dense: Vec<f64> = a.iter().flatten().copied().collect();
+        for (col, r) in rhs.iter().enumerate() {
+            let want = dense_solve(dense.clone(), r.to_vec(), 5);
+            for i in 0..5 {
+                let got = y[i * 2 + col];
+                assert!(
+                    (got - want[i]).abs() < 1e-12,
+                    "x[{i}] of column {col}: {got} vs {}",
+                    want[i]
+                );
             }
         }
     }

@@ -296,6 +296,8 @@ pub struct FaerLdlt {
     bottom: Option<Bottom>,
     /// Supernodes, floating-point operations and L entries of the whole factor.
     stats: Option<(usize, f64, usize)>,
+    /// One row of interleaved right-hand sides (scratch of the bottom's substitutions).
+    row_scratch: Vec<f64>,
     /// Right-hand sides of the reduced matrix (after the bottom's forward substitution).
     reduced_rhs: Vec<f64>,
     /// faer's symbolic factor of what it factorises (the reduced matrix with a bottom).
@@ -317,6 +319,7 @@ impl Default for FaerLdlt {
             permuted: None,
             bottom: None,
             stats: None,
+            row_scratch: Vec::new(),
             reduced_rhs: Vec::new(),
             symbolic: None,
             l_values: Vec::new(),
@@ -548,23 +551,24 @@ impl KktSolver for FaerLdlt {
         let dim = self.dim;
         match self.permuted.as_mut() {
             Some(p) => {
-                // into elimination order, solve, and back
                 p.rhs.resize(dim * ncols, 0.0);
-                for (src, dst) in rhs.chunks(dim).zip(p.rhs.chunks_mut(dim)) {
-                    for (d, &v) in dst.iter_mut().zip(&p.order) {
-                        *d = src[v];
-                    }
-                }
                 match &self.bottom {
                     Some(b) => {
-                        // bottom forward, the reduced matrix's solve on the kept entries,
-                        // bottom pivots and backward
-                        b.forward(&mut p.rhs, dim, ncols);
+                        // into elimination order with the columns interleaved row by row
+                        // (the bottom's substitutions read scattered rows, all columns at
+                        // once), bottom forward, the reduced matrix's solve on the kept
+                        // entries, bottom pivots and backward, and back
+                        for (col, src) in rhs.chunks(dim).enumerate() {
+                            for (i, &v) in p.order.iter().enumerate() {
+                                p.rhs[i * ncols + col] = src[v];
+                            }
+                        }
+                        b.forward(&mut p.rhs, ncols, &mut self.row_scratch);
                         let m = b.kept.len();
                         self.reduced_rhs.resize(m * ncols, 0.0);
-                        for (y, z) in p.rhs.chunks(dim).zip(self.reduced_rhs.chunks_mut(m)) {
+                        for (col, z) in self.reduced_rhs.chunks_mut(m).take(ncols).enumerate() {
                             for (zk, &c) in z.iter_mut().zip(&b.kept) {
-                                *zk = y[c];
+                                *zk = p.rhs[c * ncols + col];
                             }
                         }
                         let mat = MatMut::from_column_major_slice_mut(
@@ -573,25 +577,36 @@ impl KktSolver for FaerLdlt {
                             ncols,
                         );
                         l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
-                        for (z, y) in self.reduced_rhs.chunks(m).zip(p.rhs.chunks_mut(dim)) {
+                        for (col, z) in self.reduced_rhs.chunks(m).take(ncols).enumerate() {
                             for (&zk, &c) in z.iter().zip(&b.kept) {
-                                y[c] = zk;
+                                p.rhs[c * ncols + col] = zk;
                             }
                         }
-                        b.backward(&mut p.rhs, dim, ncols);
+                        b.backward(&mut p.rhs, ncols, &mut self.row_scratch);
+                        for (col, dst) in rhs.chunks_mut(dim).enumerate() {
+                            for (i, &v) in p.order.iter().enumerate() {
+                                dst[v] = p.rhs[i * ncols + col];
+                            }
+                        }
                     }
                     None => {
+                        // into elimination order, solve, and back
+                        for (src, dst) in rhs.chunks(dim).zip(p.rhs.chunks_mut(dim)) {
+                            for (d, &v) in dst.iter_mut().zip(&p.order) {
+                                *d = src[v];
+                            }
+                        }
                         let mat = MatMut::from_column_major_slice_mut(
                             &mut p.rhs[..dim * ncols],
                             dim,
                             ncols,
                         );
                         l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
-                    }
-                }
-                for (src, dst) in p.rhs.chunks(dim).zip(rhs.chunks_mut(dim)) {
-                    for (&s, &v) in src.iter().zip(&p.order) {
-                        dst[v] = s;
+                        for (src, dst) in p.rhs.chunks(dim).zip(rhs.chunks_mut(dim)) {
+                            for (&s, &v) in src.iter().zip(&p.order) {
+                                dst[v] = s;
+                            }
+                        }
                     }
                 }
             }
