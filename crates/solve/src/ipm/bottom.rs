@@ -300,6 +300,17 @@ impl Bottom {
         &self.vals[self.front_len..]
     }
 
+    /// Column `c` of node `n`'s front: its pivot, its entries in the node's later columns,
+    /// its entries in the pattern rows, and those rows.
+    #[inline]
+    fn column(&self, n: &Node, c: usize) -> (f64, &[f64], &[f64], &[usize]) {
+        let ld = n.width + n.below;
+        let lc = &self.vals[n.front + c * ld..n.front + (c + 1) * ld];
+        let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
+        let pattern = &self.rows[n.rows..n.rows + n.below];
+        (lc[c], l_own, l_pattern, pattern)
+    }
+
     /// Forward substitution with the fronts' unit lower triangle, for `nc` right-hand
     /// sides interleaved row by row (`y[r * nc + col]`, permuted order): the `nc` values of
     /// a row share cache lines, so the scattered rows of the fronts are read once for all
@@ -310,14 +321,10 @@ impl Bottom {
         }
         yc.resize(nc, 0.0);
         for n in &self.nodes {
-            let ld = n.width + n.below;
-            let f = &self.vals[n.front..n.front + ld * n.width];
-            let pattern = &self.rows[n.rows..n.rows + n.below];
             for c in 0..n.width {
-                let lc = &f[c * ld..(c + 1) * ld];
+                let (_, l_own, l_pattern, pattern) = self.column(n, c);
                 let own = (n.begin + c) * nc;
                 yc.copy_from_slice(&y[own..own + nc]);
-                let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
                 for (&l, r) in l_own.iter().zip(n.begin + c + 1..) {
                     sub_scaled(&mut y[r * nc..(r + 1) * nc], l, yc);
                 }
@@ -337,16 +344,12 @@ impl Bottom {
         }
         x.resize(nc, 0.0);
         for n in self.nodes.iter().rev() {
-            let ld = n.width + n.below;
-            let f = &self.vals[n.front..n.front + ld * n.width];
-            let pattern = &self.rows[n.rows..n.rows + n.below];
             for c in (0..n.width).rev() {
-                let lc = &f[c * ld..(c + 1) * ld];
+                let (d, l_own, l_pattern, pattern) = self.column(n, c);
                 let own = (n.begin + c) * nc;
                 for (xv, &t) in x.iter_mut().zip(&y[own..own + nc]) {
-                    *xv = t / lc[c];
+                    *xv = t / d;
                 }
-                let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
                 for (&l, r) in l_own.iter().zip(n.begin + c + 1..) {
                     sub_scaled(x, l, &y[r * nc..(r + 1) * nc]);
                 }
@@ -361,16 +364,12 @@ impl Bottom {
     /// [`Bottom::forward`] for one right-hand side.
     fn forward_one(&self, y: &mut [f64]) {
         for n in &self.nodes {
-            let ld = n.width + n.below;
-            let f = &self.vals[n.front..n.front + ld * n.width];
-            let pattern = &self.rows[n.rows..n.rows + n.below];
             for c in 0..n.width {
                 let yc = y[n.begin + c];
                 if yc == 0.0 {
                     continue;
                 }
-                let lc = &f[c * ld..(c + 1) * ld];
-                let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
+                let (_, l_own, l_pattern, pattern) = self.column(n, c);
                 for (&l, r) in l_own.iter().zip(n.begin + c + 1..) {
                     y[r] -= l * yc;
                 }
@@ -384,13 +383,9 @@ impl Bottom {
     /// [`Bottom::backward`] for one right-hand side.
     fn backward_one(&self, y: &mut [f64]) {
         for n in self.nodes.iter().rev() {
-            let ld = n.width + n.below;
-            let f = &self.vals[n.front..n.front + ld * n.width];
-            let pattern = &self.rows[n.rows..n.rows + n.below];
             for c in (0..n.width).rev() {
-                let lc = &f[c * ld..(c + 1) * ld];
-                let mut x = y[n.begin + c] / lc[c];
-                let (l_own, l_pattern) = lc[c + 1..].split_at(n.width - c - 1);
+                let (d, l_own, l_pattern, pattern) = self.column(n, c);
+                let mut x = y[n.begin + c] / d;
                 for (&l, r) in l_own.iter().zip(n.begin + c + 1..) {
                     x -= l * y[r];
                 }
