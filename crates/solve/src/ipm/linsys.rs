@@ -196,6 +196,15 @@ struct Permuted {
     rhs: Vec<f64>,
 }
 
+/// Where entry `k` (elimination order) of right-hand side `col` sits in `Permuted::rhs`:
+/// `k * row_stride + col * col_stride`. Column after column for faer's solve; interleaved
+/// row by row for the bottom's substitutions, which read scattered rows, all columns at once.
+#[derive(Clone, Copy)]
+struct RhsLayout {
+    row_stride: usize,
+    col_stride: usize,
+}
+
 impl Permuted {
     /// The permuted pattern of the lower triangle (`col_ptr`, `row_idx`) under `order`
     /// (`inverse[v]` = position of row `v` in `order`).
@@ -239,6 +248,27 @@ impl Permuted {
             place,
             values,
             rhs: Vec::new(),
+        }
+    }
+
+    /// Copies the right-hand sides `rhs` (column after column, input order) into `self.rhs`
+    /// in elimination order with `layout`.
+    fn permute_rhs(&mut self, rhs: &[f64], ncols: usize, layout: RhsLayout) {
+        let dim = self.order.len();
+        self.rhs.resize(dim * ncols, 0.0);
+        for (col, src) in rhs.chunks(dim).enumerate() {
+            for (k, &v) in self.order.iter().enumerate() {
+                self.rhs[k * layout.row_stride + col * layout.col_stride] = src[v];
+            }
+        }
+    }
+
+    /// Copies `self.rhs` (elimination order, `layout`) back into `rhs` in input order.
+    fn unpermute_rhs(&self, rhs: &mut [f64], layout: RhsLayout) {
+        for (col, dst) in rhs.chunks_mut(self.order.len()).enumerate() {
+            for (k, &v) in self.order.iter().enumerate() {
+                dst[v] = self.rhs[k * layout.row_stride + col * layout.col_stride];
+            }
         }
     }
 
@@ -551,64 +581,48 @@ impl KktSolver for FaerLdlt {
         let dim = self.dim;
         match self.permuted.as_mut() {
             Some(p) => {
-                p.rhs.resize(dim * ncols, 0.0);
+                let layout = match self.bottom {
+                    Some(_) => RhsLayout {
+                        row_stride: ncols,
+                        col_stride: 1,
+                    },
+                    None => RhsLayout {
+                        row_stride: 1,
+                        col_stride: dim,
+                    },
+                };
+                p.permute_rhs(rhs, ncols, layout);
                 match &self.bottom {
                     Some(b) => {
-                        // into elimination order with the columns interleaved row by row
-                        // (the bottom's substitutions read scattered rows, all columns at
-                        // once), bottom forward, the reduced matrix's solve on the kept
-                        // entries, bottom pivots and backward, and back
-                        for (col, src) in rhs.chunks(dim).enumerate() {
-                            for (i, &v) in p.order.iter().enumerate() {
-                                p.rhs[i * ncols + col] = src[v];
-                            }
-                        }
+                        // bottom forward, the reduced matrix's solve on the kept entries
+                        // (gathered column after column for faer), bottom pivots and backward
                         b.forward(&mut p.rhs, ncols, &mut self.row_scratch);
                         let m = b.kept.len();
                         self.reduced_rhs.resize(m * ncols, 0.0);
-                        for (col, z) in self.reduced_rhs.chunks_mut(m).take(ncols).enumerate() {
+                        for (col, z) in self.reduced_rhs.chunks_mut(m).enumerate() {
                             for (zk, &c) in z.iter_mut().zip(&b.kept) {
                                 *zk = p.rhs[c * ncols + col];
                             }
                         }
                         let mat = MatMut::from_column_major_slice_mut(
-                            &mut self.reduced_rhs[..m * ncols],
+                            &mut self.reduced_rhs[..],
                             m,
                             ncols,
                         );
                         l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
-                        for (col, z) in self.reduced_rhs.chunks(m).take(ncols).enumerate() {
+                        for (col, z) in self.reduced_rhs.chunks(m).enumerate() {
                             for (&zk, &c) in z.iter().zip(&b.kept) {
                                 p.rhs[c * ncols + col] = zk;
                             }
                         }
                         b.backward(&mut p.rhs, ncols, &mut self.row_scratch);
-                        for (col, dst) in rhs.chunks_mut(dim).enumerate() {
-                            for (i, &v) in p.order.iter().enumerate() {
-                                dst[v] = p.rhs[i * ncols + col];
-                            }
-                        }
                     }
                     None => {
-                        // into elimination order, solve, and back
-                        for (src, dst) in rhs.chunks(dim).zip(p.rhs.chunks_mut(dim)) {
-                            for (d, &v) in dst.iter_mut().zip(&p.order) {
-                                *d = src[v];
-                            }
-                        }
-                        let mat = MatMut::from_column_major_slice_mut(
-                            &mut p.rhs[..dim * ncols],
-                            dim,
-                            ncols,
-                        );
+                        let mat = MatMut::from_column_major_slice_mut(&mut p.rhs[..], dim, ncols);
                         l.solve_in_place_with_conj(Conj::No, mat, Par::Seq, stack);
-                        for (src, dst) in p.rhs.chunks(dim).zip(rhs.chunks_mut(dim)) {
-                            for (&s, &v) in src.iter().zip(&p.order) {
-                                dst[v] = s;
-                            }
-                        }
                     }
                 }
+                p.unpermute_rhs(rhs, layout);
             }
             None => {
                 let mat = MatMut::from_column_major_slice_mut(rhs, dim, ncols);
