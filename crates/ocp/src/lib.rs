@@ -14,6 +14,7 @@ pub mod experimental;
 pub mod figures;
 pub mod gait;
 pub mod guess;
+mod jacobian_fill;
 pub mod layout;
 pub mod measures;
 pub mod node;

@@ -7,6 +7,7 @@
 //! distance normalisation of the cost are bilinear or rational in few variables and are
 //! differentiated here by hand.
 
+use crate::jacobian_fill::JacobianFill;
 use crate::layout::{Layout, Point};
 use crate::problem::{GaitProblem, TAU_ARM};
 use crate::radau;
@@ -242,17 +243,17 @@ impl HessianBuilder {
 
 /// One entry of a linear or bilinear constraint: `coef · x[var]`, optionally times t_f/N.
 #[derive(Clone, Copy, Debug)]
-struct Term {
-    var: usize,
-    coef: f64,
-    times_h: bool,
+pub(crate) struct Term {
+    pub(crate) var: usize,
+    pub(crate) coef: f64,
+    pub(crate) times_h: bool,
 }
 
 /// A constraint row that is a sum of terms (collocation, continuity, symmetry).
 #[derive(Clone, Debug)]
-struct LinearRow {
-    row: usize,
-    terms: Vec<Term>,
+pub(crate) struct LinearRow {
+    pub(crate) row: usize,
+    pub(crate) terms: Vec<Term>,
 }
 
 /// Cached node evaluations at the last point.
@@ -290,8 +291,6 @@ pub struct Transcription<F: NodeFunction> {
     node_globals: Vec<usize>,
     node_jac_pattern: Vec<(usize, usize)>,
     node_hess_pattern: Vec<(usize, usize)>,
-    /// Global Jacobian position of each node Jacobian entry per node (`usize::MAX` for the cost row).
-    node_jac_pos: Vec<usize>,
     /// Hessian position of each node Hessian entry per node.
     node_hess_pos: Vec<usize>,
     /// Hessian positions of (t_f, u), (x_N, u), (x_0, u) for each cost-gradient entry, per node.
@@ -299,7 +298,9 @@ pub struct Transcription<F: NodeFunction> {
     /// For each node Jacobian entry of the cost row: the entry index in the node pattern.
     cost_entries: Vec<usize>,
     linear_rows: Vec<LinearRow>,
-    linear_jac_pos: Vec<Vec<usize>>,
+    /// How the constraint Jacobian values are written from the node Jacobians and the
+    /// linear rows.
+    jac_fill: JacobianFill,
     /// Hessian position of (t_f, var) per h-term of each linear row.
     linear_hess_pos: Vec<Vec<usize>>,
     speed_row: usize,
@@ -558,6 +559,12 @@ impl<F: NodeFunction> Transcription<F> {
         }
         constraint_lo[speed_row] = problem.settings.speed;
         constraint_hi[speed_row] = problem.settings.speed;
+        let jac_fill = JacobianFill::new(
+            node_jac_pattern.len(),
+            &node_jac_pos,
+            &linear_rows,
+            &linear_jac_pos,
+        );
         Self {
             problem,
             node,
@@ -568,12 +575,11 @@ impl<F: NodeFunction> Transcription<F> {
             node_globals,
             node_jac_pattern,
             node_hess_pattern,
-            node_jac_pos,
+            jac_fill,
             node_hess_pos,
             cost_cross_pos,
             cost_entries,
             linear_rows,
-            linear_jac_pos,
             linear_hess_pos,
             speed_row,
             speed_pos,
@@ -706,7 +712,13 @@ impl<F: NodeFunction> Transcription<F> {
     }
 }
 
+/// Reports the first non-finite value of `v` as an error of `function`; long vectors are
+/// scanned in parallel first (the serial scan then only runs to name the bad entry).
 fn check(function: NlpFunction, v: &[f64]) -> Result<(), EvalError> {
+    let finite = |c: &[f64]| c.iter().fold(true, |ok, x| ok & x.is_finite());
+    if v.par_chunks(1 << 14).all(finite) {
+        return Ok(());
+    }
     stride_solve::nlp::check_finite(function, v)
 }
 
@@ -784,30 +796,7 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
     fn jacobian_values(&self, x: &[f64], vals: &mut [f64]) -> Result<(), EvalError> {
         let n = self.problem.layout.n as f64;
         let tf = x[self.problem.layout.tf()];
-        self.with_nodes(x, true, |c| {
-            for (p, &pos) in self.node_jac_pos.iter().enumerate() {
-                if pos != usize::MAX {
-                    vals[pos] = c.jac[p];
-                }
-            }
-        });
-        for (lr, pos) in self.linear_rows.iter().zip(&self.linear_jac_pos) {
-            let mut dtf = 0.0;
-            for &p in &pos[..lr.terms.len()] {
-                vals[p] = 0.0;
-            }
-            for (t, &p) in lr.terms.iter().zip(pos) {
-                if t.times_h {
-                    vals[p] += t.coef * tf / n;
-                    dtf += t.coef * x[t.var] / n;
-                } else {
-                    vals[p] += t.coef;
-                }
-            }
-            if pos.len() > lr.terms.len() {
-                vals[pos[lr.terms.len()]] = dtf;
-            }
-        }
+        self.with_nodes(x, true, |c| self.jac_fill.fill(&c.jac, x, tf, n, vals));
         let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
         vals[self.speed_pos[0]] = stx / tf;
         vals[self.speed_pos[1]] = -stx / tf;

@@ -1,0 +1,51 @@
+//! Development driver: time the gait NLP's constraint Jacobian (50 intervals, data-informed
+//! walking guess, node cache cleared before every call) and print the median.
+//! `cargo run --release -p stride-ocp --example jac_loop -- [reps] [threads]`; with
+//! `JAC_OUT=<file>` the values are also written as little-endian `f64` (to compare builds
+//! bit for bit).
+use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
+use stride_solve::nlp::Nlp;
+fn main() {
+    let reps: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(200);
+    let model = stride_model::default_model::default_model();
+    let settings = ProblemSettings {
+        mesh_intervals: 50,
+        ..Default::default()
+    };
+    let nlp =
+        stride_ocp::predict::transcribe(&model, &settings, GuessKind::DataInformedWalking).unwrap();
+    let mut x = vec![0.0; nlp.n()];
+    nlp.initial_point(&mut x);
+    let mut jac = vec![0.0; nlp.jacobian_structure().nnz()];
+    let th: usize = std::env::args()
+        .nth(2)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(th)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let mut v = Vec::new();
+        for _ in 0..reps {
+            nlp.clear_cache();
+            let t = std::time::Instant::now();
+            nlp.jacobian_values(&x, &mut jac).unwrap();
+            v.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        let s: f64 = jac.iter().map(|x| x.abs()).sum();
+        if let Ok(f) = std::env::var("JAC_OUT") {
+            let bytes: Vec<u8> = jac.iter().flat_map(|v| v.to_le_bytes()).collect();
+            std::fs::write(f, bytes).unwrap();
+        }
+        println!(
+            "jacobian median {:.2} ms min {:.2} (checksum {s:.12e})",
+            v[v.len() / 2],
+            v[0]
+        );
+    });
+}
