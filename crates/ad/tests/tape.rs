@@ -413,7 +413,7 @@ fn linear_combinations_store_only_their_result() {
 }
 
 #[test]
-fn jacobian_sweep_reuses_the_places_of_dead_gradients() {
+fn jacobian_sweep_reuses_the_places_of_dead_gradients_and_values() {
     // Every step of the chain stores a gradient over all 10 inputs; the Jacobian-only
     // sweep keeps only the inputs, the outputs and the few sets live at once.
     let n = 10;
@@ -426,6 +426,16 @@ fn jacobian_sweep_reuses_the_places_of_dead_gradients() {
         "Jacobian-only store {} (full {})",
         s.jacobian_grad_entries,
         s.grad_entries
+    );
+    // Values too: the inputs and the three outputs keep their places, every other value
+    // lives from its operation to its last reader (a few at once along the chain).
+    assert!(s.n_ops > 100, "{} operations", s.n_ops);
+    assert!(
+        s.jacobian_value_places <= n + 3 + 6,
+        "{} value places for {} inputs and {} operations",
+        s.jacobian_value_places,
+        n,
+        s.n_ops
     );
     // Same Jacobian from the compact sweep as from the Hessian's full one.
     let mut bw = tape.batch_workspace();

@@ -1,23 +1,25 @@
 //! Derivatives of one tape at several points at once (the collocation points of a
-//! transcription all share the node function): the value sweeps run per point, the sparse
-//! derivative sweeps carry `BATCH` lanes per stored entry, so each index set, map and
-//! instruction is read once for all points and the arithmetic vectorises.
+//! transcription all share the node function): every sweep carries `BATCH` lanes, one per
+//! point, side by side in each stored entry, so each operation, index set, map and
+//! instruction is decoded once for all points and the lanes' arithmetic is one vector
+//! operation.
 
-use super::sparse::LaneLocals;
-use super::{Tape, Workspace};
+use super::{Locals, Tape};
 use crate::error::{check_len, AdError};
 
 /// Number of evaluation points propagated together by [`Tape::jacobian_batch`] and
 /// [`Tape::hessian_batch`].
-pub const BATCH: usize = 4;
+pub const BATCH: usize = 8;
 
 /// Scratch memory for evaluating one [`Tape`] at up to [`BATCH`] points together.
 #[derive(Clone, Debug)]
 pub struct BatchWorkspace {
-    /// Values, local partials and adjoints of each point.
-    lanes: Vec<Workspace>,
+    /// Values, local partials and adjoints, one lane per point.
+    loc: Locals<BATCH>,
     /// Sparse forward gradients, one lane per point.
     grad: Vec<[f64; BATCH]>,
+    /// Partials of folded operations kept by the Jacobian's fused sweep.
+    kept: Vec<[[f64; BATCH]; 2]>,
     /// Sparse second-order adjoints, one lane per point.
     adot: Vec<[f64; BATCH]>,
     /// Hessian values of the lanes beyond the last point of a short batch (discarded).
@@ -28,8 +30,9 @@ impl Tape {
     /// A fresh batch workspace sized for this tape.
     pub fn batch_workspace(&self) -> BatchWorkspace {
         BatchWorkspace {
-            lanes: (0..BATCH).map(|_| self.value_workspace()).collect(),
+            loc: Locals::new(self),
             grad: vec![[0.0; BATCH]; self.sparse.grad_len()],
+            kept: vec![[[0.0; BATCH]; 2]; self.sparse.kept_len()],
             adot: vec![[0.0; BATCH]; self.sparse.adot_len()],
             spare: vec![0.0; self.hes_pattern.nnz() * (BATCH - 1)],
         }
@@ -46,13 +49,23 @@ impl Tape {
                 got: len,
             });
         }
-        if bw.grad.len() != self.sparse.grad_len() || bw.adot.len() != self.sparse.adot_len() {
+        if bw.grad.len() != self.sparse.grad_len()
+            || bw.kept.len() != self.sparse.kept_len()
+            || bw.adot.len() != self.sparse.adot_len()
+            || !bw.loc.fits(self)
+        {
             return Err(AdError::Workspace {
-                ws_nodes: bw.lanes[0].vals.len().saturating_sub(1),
+                ws_nodes: bw.loc.nodes,
                 tape_nodes: self.n_nodes,
             });
         }
         Ok(points)
+    }
+
+    /// The inputs of each lane: point `l` of `xs`, lanes beyond the last point repeating it.
+    fn lane_inputs<'a>(&self, xs: &'a [f64], points: usize) -> [&'a [f64]; BATCH] {
+        let n = self.n_in;
+        std::array::from_fn(|l| &xs[l.min(points - 1) * n..][..n])
     }
 
     /// Value sweeps of every lane at `xs`, all lanes in one sweep (lanes beyond the last
@@ -66,19 +79,16 @@ impl Tape {
         bw: &mut BatchWorkspace,
         ys: &mut [f64],
     ) {
-        let (n, m) = (self.n_in, self.outputs.len());
-        let point = |l: usize| l.min(points - 1);
-        let inputs: [&[f64]; BATCH] = std::array::from_fn(|l| &xs[point(l) * n..][..n]);
-        let lanes: &mut [Workspace; BATCH] = (&mut bw.lanes[..])
-            .try_into()
-            .expect("a batch workspace holds BATCH lanes");
-        self.forward_lanes::<ORD, BATCH>(inputs, lanes.each_mut());
-        for (l, ws) in lanes.iter().take(points).enumerate() {
-            self.write_outputs(ws, &mut ys[l * m..(l + 1) * m]);
+        let m = self.outputs.len();
+        let inputs = self.lane_inputs(xs, points);
+        super::sparse::with_wide_vectors(|| self.forward_lanes::<ORD, BATCH>(inputs, &mut bw.loc));
+        for (l, y) in ys.chunks_exact_mut(m.max(1)).take(points).enumerate() {
+            self.write_outputs(&bw.loc.vals, l, y);
         }
         if let Some(lambdas) = lambdas {
-            let w: [&[f64]; BATCH] = std::array::from_fn(|l| &lambdas[point(l) * m..][..m]);
-            self.adjoint_lanes(lanes.each_mut(), w);
+            let w: [&[f64]; BATCH] =
+                std::array::from_fn(|l| &lambdas[l.min(points - 1) * m..][..m]);
+            self.adjoint_lanes(&mut bw.loc, w);
         }
     }
 
@@ -112,10 +122,13 @@ impl Tape {
         let nnz = self.jac_pattern.nnz();
         check_len("outputs ys", self.outputs.len() * points, ys.len())?;
         check_len("Jacobian values jacs", nnz * points, jacs.len())?;
-        self.batch_values::<1>(xs, None, points, bw, ys);
-        let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
+        let inputs = self.lane_inputs(xs, points);
+        self.value_gradient_batch(inputs, &mut bw.loc.vals, &mut bw.kept, &mut bw.grad);
+        let m = self.outputs.len();
+        for (l, y) in ys.chunks_exact_mut(m.max(1)).take(points).enumerate() {
+            self.write_outputs(&bw.loc.vals, l, y);
+        }
         let plan = self.sparse.compact();
-        self.sparse_forward_batch(plan, part, &mut bw.grad);
         for (l, jac) in jacs.chunks_exact_mut(nnz.max(1)).take(points).enumerate() {
             self.sparse_jacobian_extract(plan, &bw.grad, l, jac);
         }
@@ -172,19 +185,13 @@ impl Tape {
             check_len("Jacobian values jacs", nnz_j * points, jacs.len())?;
         }
         self.batch_values::<2>(xs, Some(lambdas), points, bw, ys);
-        let part: [&[[f64; 2]]; BATCH] = std::array::from_fn(|l| &bw.lanes[l].part[..]);
         let plan = self.sparse.full();
-        self.sparse_forward_batch(plan, part, &mut bw.grad);
+        self.sparse_forward_batch(plan, &bw.loc.part, &mut bw.grad);
         if let Some(jacs) = jacs {
             for (l, jac) in jacs.chunks_exact_mut(nnz_j.max(1)).take(points).enumerate() {
                 self.sparse_jacobian_extract(plan, &bw.grad, l, jac);
             }
         }
-        let locals: [LaneLocals<'_>; BATCH] = std::array::from_fn(|l| LaneLocals {
-            part: &bw.lanes[l].part,
-            sec: &bw.lanes[l].sec,
-            abar: &bw.lanes[l].abar,
-        });
         if nnz == 0 {
             return Ok(());
         }
@@ -199,7 +206,7 @@ impl Tape {
             };
             next.expect("one block of nnz values per lane (lengths checked above)")
         });
-        self.sparse_hessian_batch(locals, &bw.grad, &mut bw.adot, outs);
+        self.sparse_hessian_batch(&bw.loc, &bw.grad, &mut bw.adot, outs);
         Ok(())
     }
 }

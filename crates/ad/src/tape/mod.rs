@@ -15,6 +15,7 @@
 mod batch;
 mod build;
 pub mod op;
+mod registers;
 mod slots;
 mod sparse;
 mod sweep;
@@ -79,21 +80,60 @@ pub struct Tape {
     hes_colours: usize,
     hes_chunks: Vec<HesChunk>,
     sparse: sparse::SparsePlan,
+    /// Value places of the Jacobian's fused sweep.
+    registers: registers::Registers,
 }
 
 /// Per-thread scratch memory for evaluating one [`Tape`]; reuse it across calls.
 #[derive(Clone, Debug)]
 pub struct Workspace {
-    vals: Vec<f64>,
-    part: Vec<[f64; 2]>,
-    sec: Vec<[f64; 3]>,
-    abar: Vec<f64>,
+    /// Values, local derivatives and adjoints of the nodes (one point).
+    loc: Locals<1>,
     lane_a: Vec<[f64; LANES]>,
     lane_b: Vec<[f64; LANES]>,
     /// Sparse forward gradients (one lane).
     grad: Vec<[f64; 1]>,
+    /// Partials of folded operations kept for the Jacobian's fused sweep (one lane).
+    kept: Vec<[[f64; 1]; 2]>,
     /// Sparse second-order adjoints (one lane).
     adot: Vec<[f64; 1]>,
+}
+
+/// Values, local partials, second partials and adjoints of every node at `L` evaluation
+/// points, the `L` lanes of a node side by side (one vector operation per node).
+#[derive(Clone, Debug)]
+pub(super) struct Locals<const L: usize> {
+    /// Nodes of the tape the stores are sized for.
+    nodes: usize,
+    /// Node values in their places ([`registers::Registers`]: reused by liveness).
+    vals: Vec<[f64; L]>,
+    /// `[∂/∂a, ∂/∂b]` of each operation.
+    part: Vec<[[f64; L]; 2]>,
+    /// `[∂²/∂a², ∂²/∂a∂b, ∂²/∂b²]` of each operation.
+    sec: Vec<[[f64; L]; 3]>,
+    /// Adjoints of the nodes (the sink last).
+    abar: Vec<[f64; L]>,
+}
+
+impl<const L: usize> Locals<L> {
+    /// Zeroed stores for `tape`.
+    fn new(tape: &Tape) -> Self {
+        let n_ops = tape.ops.len();
+        Locals {
+            nodes: tape.n_nodes,
+            vals: vec![[0.0; L]; tape.registers.len as usize],
+            part: vec![[[0.0; L]; 2]; n_ops],
+            sec: vec![[[0.0; L]; 3]; n_ops],
+            abar: vec![[0.0; L]; tape.n_nodes + 1],
+        }
+    }
+
+    /// Whether the stores were sized for `tape`.
+    fn fits(&self, tape: &Tape) -> bool {
+        self.nodes == tape.n_nodes
+            && self.part.len() == tape.ops.len()
+            && self.vals.len() == tape.registers.len as usize
+    }
 }
 
 /// Size statistics of a tape (for reports and benchmarks).
@@ -122,6 +162,11 @@ pub struct TapeStats {
     /// Length of the store of the per-node second-order adjoints (Hessian sweep): the
     /// inputs' sets plus the most other sets live at once (places reused by liveness).
     pub adot_entries: usize,
+    /// Value places of the Jacobian-only sweep: the inputs plus the most other values
+    /// live at once (places reused by liveness; every node has one in the other sweeps).
+    pub jacobian_value_places: usize,
+    /// Partials of folded operations the Jacobian-only sweep keeps at once.
+    pub jacobian_kept_partials: usize,
     /// Stored scatter positions of both sparse sweeps.
     pub map_entries: usize,
 }
@@ -182,7 +227,9 @@ impl Tape {
             hes_colours: 0,
             hes_chunks: Vec::new(),
             sparse: sparse::SparsePlan::default(),
+            registers: registers::Registers::default(),
         };
+        tape.registers = registers::Registers::new(n_in, &tape.ops, &tape.outputs);
         let (plan, hes_pattern) = sparse::SparsePlan::new(
             n_in,
             &tape.ops,
@@ -218,6 +265,8 @@ impl Tape {
             grad_entries: self.sparse.grad_len(),
             jacobian_grad_entries: self.sparse.jacobian_grad_len(),
             adot_entries: self.sparse.adot_len(),
+            jacobian_value_places: self.registers.len as usize,
+            jacobian_kept_partials: self.sparse.kept_len(),
             map_entries: self.sparse.map_len(),
         }
     }
@@ -246,43 +295,31 @@ impl Tape {
     pub fn workspace(&self) -> Workspace {
         let n = self.n_nodes + 1;
         Workspace {
+            loc: Locals::new(self),
             lane_a: vec![[0.0; LANES]; n],
             lane_b: vec![[0.0; LANES]; n],
             grad: vec![[0.0]; self.sparse.grad_len()],
+            kept: vec![[[0.0]; 2]; self.sparse.kept_len()],
             adot: vec![[0.0]; self.sparse.adot_len()],
-            ..self.value_workspace()
-        }
-    }
-
-    /// A workspace for the value sweeps only (no sparse or coloured derivative stores).
-    fn value_workspace(&self) -> Workspace {
-        let n = self.n_nodes + 1;
-        Workspace {
-            vals: vec![0.0; n],
-            part: vec![[0.0; 2]; self.ops.len()],
-            sec: vec![[0.0; 3]; self.ops.len()],
-            abar: vec![0.0; n],
-            lane_a: Vec::new(),
-            lane_b: Vec::new(),
-            grad: Vec::new(),
-            adot: Vec::new(),
         }
     }
 
     fn check(&self, x: &[f64], ws: &Workspace) -> Result<(), AdError> {
         check_len("inputs x", self.n_in, x.len())?;
-        if ws.vals.len() != self.n_nodes + 1 || ws.part.len() != self.ops.len() {
+        if !ws.loc.fits(self) {
             return Err(AdError::Workspace {
-                ws_nodes: ws.vals.len().saturating_sub(1),
+                ws_nodes: ws.loc.nodes,
                 tape_nodes: self.n_nodes,
             });
         }
         Ok(())
     }
 
-    fn write_outputs(&self, ws: &Workspace, y: &mut [f64]) {
-        for (yi, &o) in y.iter_mut().zip(&self.outputs) {
-            *yi = ws.vals[o as usize];
+    /// Copies lane `lane` of the outputs' values, left in their places in `vals` by a
+    /// forward sweep, into `y`.
+    fn write_outputs<const L: usize>(&self, vals: &[[f64; L]], lane: usize, y: &mut [f64]) {
+        for (yi, &o) in y.iter_mut().zip(&self.registers.outputs) {
+            *yi = vals[o as usize][lane];
         }
     }
 
@@ -291,7 +328,7 @@ impl Tape {
         self.check(x, ws)?;
         check_len("outputs y", self.outputs.len(), y.len())?;
         self.forward::<0>(x, ws);
-        self.write_outputs(ws, y);
+        self.write_outputs(&ws.loc.vals, 0, y);
         Ok(())
     }
 
@@ -307,11 +344,9 @@ impl Tape {
         self.check(x, ws)?;
         check_len("outputs y", self.outputs.len(), y.len())?;
         check_len("Jacobian values", self.jac_pattern.nnz(), jac.len())?;
-        self.forward::<1>(x, ws);
-        self.write_outputs(ws, y);
-        let plan = self.sparse.compact();
-        self.sparse_forward(plan, [&ws.part], &mut ws.grad);
-        self.sparse_jacobian_extract(plan, &ws.grad, 0, jac);
+        self.value_gradient_sweep([x], &mut ws.loc.vals, &mut ws.kept, &mut ws.grad);
+        self.write_outputs(&ws.loc.vals, 0, y);
+        self.sparse_jacobian_extract(self.sparse.compact(), &ws.grad, 0, jac);
         Ok(())
     }
 
@@ -328,7 +363,7 @@ impl Tape {
         check_len("outputs y", self.outputs.len(), y.len())?;
         check_len("Jacobian values", self.jac_pattern.nnz(), jac.len())?;
         self.forward::<1>(x, ws);
-        self.write_outputs(ws, y);
+        self.write_outputs(&ws.loc.vals, 0, y);
         self.jacobian_sweeps(ws, jac);
         Ok(())
     }
@@ -348,9 +383,9 @@ impl Tape {
         check_len("outputs y", self.outputs.len(), y.len())?;
         check_len("gradient g", self.n_in, g.len())?;
         self.forward::<1>(x, ws);
-        self.write_outputs(ws, y);
+        self.write_outputs(&ws.loc.vals, 0, y);
         self.adjoint_sweep(ws, w);
-        g.copy_from_slice(&ws.abar[..self.n_in]);
+        g.iter_mut().zip(&ws.loc.abar).for_each(|(g, [a])| *g = *a);
         Ok(())
     }
 
@@ -371,11 +406,11 @@ impl Tape {
             });
         }
         self.forward::<1>(x, ws);
-        ws.abar.iter_mut().for_each(|a| *a = 0.0);
-        ws.abar[self.outputs[k] as usize] = 1.0;
+        ws.loc.abar.iter_mut().for_each(|a| *a = [0.0]);
+        ws.loc.abar[self.outputs[k] as usize] = [1.0];
         self.reverse_scalar(ws);
-        g.copy_from_slice(&ws.abar[..self.n_in]);
-        Ok(ws.vals[self.outputs[k] as usize])
+        g.iter_mut().zip(&ws.loc.abar).for_each(|(g, [a])| *g = *a);
+        Ok(ws.loc.vals[self.registers.outputs[k] as usize][0])
     }
 
     /// Evaluates `y = f(x)` and the lower triangle of the exact Hessian of `Σ λᵢ yᵢ`,
@@ -393,15 +428,10 @@ impl Tape {
         check_len("outputs y", self.outputs.len(), y.len())?;
         check_len("Hessian values", self.hes_pattern.nnz(), hes.len())?;
         self.forward::<2>(x, ws);
-        self.write_outputs(ws, y);
+        self.write_outputs(&ws.loc.vals, 0, y);
         self.adjoint_sweep(ws, lambda);
-        self.sparse_forward(self.sparse.full(), [&ws.part], &mut ws.grad);
-        let locals = sparse::LaneLocals {
-            part: &ws.part,
-            sec: &ws.sec,
-            abar: &ws.abar,
-        };
-        self.sparse_hessian([locals], &ws.grad, &mut ws.adot, [hes]);
+        self.sparse_forward(self.sparse.full(), &ws.loc.part, &mut ws.grad);
+        self.sparse_hessian(&ws.loc, &ws.grad, &mut ws.adot, [hes]);
         Ok(())
     }
 
@@ -420,7 +450,7 @@ impl Tape {
         check_len("outputs y", self.outputs.len(), y.len())?;
         check_len("Hessian values", self.hes_pattern.nnz(), hes.len())?;
         self.forward::<2>(x, ws);
-        self.write_outputs(ws, y);
+        self.write_outputs(&ws.loc.vals, 0, y);
         self.adjoint_sweep(ws, lambda);
         self.hessian_sweeps(ws, hes);
         Ok(())

@@ -85,6 +85,12 @@ pub(super) struct FwdPlan {
     outputs: Vec<Span>,
     /// Length of the store.
     len: u32,
+    /// For the sweep fused with the values ([`super::Tape::value_gradient_sweep`]): the
+    /// place of each operation's partials in the store of kept partials (`u32::MAX`: not
+    /// kept; only folded operations' partials, which a later combination's terms read,
+    /// are), and that store's length. The terms' `w.part` then name places in it.
+    save: Vec<u32>,
+    saved_len: u32,
 }
 
 impl FwdPlan {
@@ -546,6 +552,7 @@ impl SparsePlan {
             compact.outputs.push(places.place(o));
         }
         compact.len = places.slots.peak();
+        place_kept_partials(&mut compact, ops.len());
         full.check_places();
         compact.check_places();
         (
@@ -583,6 +590,10 @@ impl SparsePlan {
     /// The forward sweep with places reused by liveness (Jacobians alone).
     pub(super) fn compact(&self) -> &FwdPlan {
         &self.compact
+    }
+    /// Length of the store of kept partials of the Jacobian's fused sweep.
+    pub(super) fn kept_len(&self) -> usize {
+        self.compact.saved_len as usize
     }
     /// Total number of stored map positions (memory report).
     pub(super) fn map_len(&self) -> usize {
@@ -629,6 +640,45 @@ impl<F: Fn(usize) -> u32> Places<F> {
             self.slots.free(s.start, s.len);
         }
     }
+}
+
+/// Gives each folded operation whose partials a term of `plan` reads a place in the store
+/// of kept partials, from the operation to the step that reads them (places reused by
+/// liveness, so the store is a handful of entries), and makes the terms name that place.
+fn place_kept_partials(plan: &mut FwdPlan, n_ops: usize) {
+    let mut reader = vec![usize::MAX; n_ops];
+    for (i, s) in plan.steps.iter().enumerate() {
+        for term in plan.terms[s.terms.range()].iter().filter(|t| t.w.side != 0) {
+            reader[term.w.part as usize] = i;
+        }
+    }
+    let mut slots = Slots::default();
+    let mut save = vec![u32::MAX; n_ops];
+    let mut next = 0;
+    for t in 0..n_ops {
+        if reader[t] != usize::MAX {
+            save[t] = slots.alloc(1);
+        }
+        let Some(s) = plan.steps.get(next) else {
+            continue;
+        };
+        if s.t as usize != t {
+            continue;
+        }
+        for term in &plan.terms[s.terms.range()] {
+            let op = term.w.part as usize;
+            if term.w.side != 0 && reader[op] == next {
+                slots.free(save[op], 1);
+                reader[op] = usize::MAX;
+            }
+        }
+        next += 1;
+    }
+    for term in plan.terms.iter_mut().filter(|t| t.w.side != 0) {
+        term.w.part = save[term.w.part as usize];
+    }
+    plan.saved_len = slots.peak();
+    plan.save = save;
 }
 
 /// Appends one term per leaf of `combo`, with the node's set and map from `set_map`;
@@ -807,6 +857,83 @@ fn axpy<const L: usize>(
     }
 }
 
+/// Checks that `g` holds the store of `plan` and writes the inputs' unit seeds.
+#[inline(always)]
+fn seed_gradients<const L: usize>(plan: &FwdPlan, g: &mut [[f64; L]]) {
+    assert!(
+        g.len() >= plan.len as usize,
+        "gradient store shorter than the plan"
+    );
+    for &i in &plan.seeds {
+        g[i as usize] = [1.0; L];
+    }
+}
+
+/// One step of a forward sparse gradient sweep: `P(k)` of step `s` from its operands'
+/// sets with the operation's partials `p`, or from its combination's `terms`, whose folded
+/// partials are `term_part[w.part]`.
+///
+/// # Safety
+/// `base` is the start of a gradient store at least as long as the plan of `s` and
+/// `terms`, not otherwise accessed during the call.
+#[inline(always)]
+unsafe fn forward_step<const L: usize>(
+    s: &FwdStep,
+    p: [[f64; L]; 2],
+    terms: &[Term],
+    term_part: &[[[f64; L]; 2]],
+    store: &[u32],
+    base: *mut [f64; L],
+) {
+    // SAFETY: every span of the plan lies within its `len` entries (checked when the plan
+    // was built; the caller passes a store at least that long), and the result's set is
+    // disjoint from every set its step reads (operands precede it, or were placed before
+    // it and are still live), so the one mutable and the shared slices never overlap.
+    let gk = unsafe { std::slice::from_raw_parts_mut(base.add(s.k as usize), s.k_len as usize) };
+    let read = |start: u32, len: u32| -> &[[f64; L]] {
+        // SAFETY: as above.
+        unsafe { std::slice::from_raw_parts(base.add(start as usize), len as usize) }
+    };
+    if s.terms.len > 0 {
+        gk.iter_mut().for_each(|x| *x = [0.0; L]);
+        for term in &terms[s.terms.range()] {
+            let w = term.w;
+            let mut c = [w.coef; L];
+            if w.side != 0 {
+                let [pa, pb] = term_part[w.part as usize];
+                for l in 0..L {
+                    c[l] *= partial_of(w.side, [pa[l], pb[l]]);
+                }
+            }
+            axpy(gk, read(term.set.start, term.set.len), c, term.map, store);
+        }
+        return;
+    }
+    let [mut ca, cb] = p;
+    if s.same {
+        for l in 0..L {
+            ca[l] += cb[l];
+        }
+    }
+    let ga = read(s.a, s.a_len);
+    if s.a_len > 0 && s.fa.ident {
+        // Same index set as the result: write, no zeroing needed.
+        for (d, x) in gk.iter_mut().zip(ga) {
+            for l in 0..L {
+                d[l] = ca[l] * x[l];
+            }
+        }
+    } else {
+        gk.iter_mut().for_each(|x| *x = [0.0; L]);
+        if s.a_len > 0 {
+            axpy(gk, ga, ca, s.fa, store);
+        }
+    }
+    if s.b_len > 0 {
+        axpy(gk, read(s.b, s.b_len), cb, s.fb, store);
+    }
+}
+
 /// `d[src]` to read and `d[dst]` to write: two sets live at the same step of the reverse
 /// sweep, which [`Slots`] placed apart.
 #[inline(always)]
@@ -820,84 +947,70 @@ fn read_write<T>(d: &mut [T], src: Span, dst: Span) -> (&[T], &mut [T]) {
     }
 }
 
-/// The local derivatives of one evaluation point (lane) that the sparse sweeps read:
-/// first partials, second partials and adjoints of every operation.
-#[derive(Clone, Copy)]
-pub(super) struct LaneLocals<'a> {
-    pub part: &'a [[f64; 2]],
-    pub sec: &'a [[f64; 3]],
-    pub abar: &'a [f64],
-}
-
 impl super::Tape {
     /// Forward sparse gradients of every stored node into `g` by the sweep `plan` (the
-    /// tape's [`SparsePlan::full`] or [`SparsePlan::compact`]), for `L` evaluation points
-    /// at once (lane `l` uses the partials `part[l]` of its own `forward::<1>` sweep).
+    /// tape's [`SparsePlan::full`]), for `L` evaluation points at once (lane `l` uses lane
+    /// `l` of the partials `part` of the `forward::<1>` sweep).
     #[inline(always)]
     pub(super) fn sparse_forward<const L: usize>(
         &self,
         plan: &FwdPlan,
-        part: [&[[f64; 2]]; L],
+        part: &[[[f64; L]; 2]],
         g: &mut [[f64; L]],
     ) {
-        let store = &self.sparse.store;
-        assert!(
-            g.len() >= plan.len as usize,
-            "gradient store shorter than the plan"
-        );
-        for &i in &plan.seeds {
-            g[i as usize] = [1.0; L];
-        }
+        seed_gradients(plan, g);
         let base = g.as_mut_ptr();
         for s in &plan.steps {
-            // SAFETY: every span of the plan lies within its `len` entries (checked when the
-            // plan was built, and `g` is at least that long, asserted above), and the result's
-            // set is disjoint from every set its step reads (operands precede it, or were
-            // placed before it and are still live), so the one mutable and the shared slices
-            // never overlap; `g` is not used otherwise while they exist.
-            let gk =
-                unsafe { std::slice::from_raw_parts_mut(base.add(s.k as usize), s.k_len as usize) };
-            let read = |start: u32, len: u32| -> &[[f64; L]] {
-                // SAFETY: as above.
-                unsafe { std::slice::from_raw_parts(base.add(start as usize), len as usize) }
+            // SAFETY: `g` holds the plan's store (checked by `seed_gradients`), `base` is its
+            // start and `g` is not used otherwise during the loop.
+            unsafe {
+                forward_step(
+                    s,
+                    part[s.t as usize],
+                    &plan.terms,
+                    part,
+                    &self.sparse.store,
+                    base,
+                )
             };
-            if s.terms.len > 0 {
-                gk.iter_mut().for_each(|x| *x = [0.0; L]);
-                for term in &plan.terms[s.terms.range()] {
-                    let w = term.w;
-                    let mut c = [w.coef; L];
-                    if w.side != 0 {
-                        for l in 0..L {
-                            c[l] *= partial_of(w.side, part[l][w.part as usize]);
-                        }
-                    }
-                    axpy(gk, read(term.set.start, term.set.len), c, term.map, store);
-                }
-                continue;
+        }
+    }
+
+    /// Values and forward sparse gradients (the Jacobian's sweep [`SparsePlan::compact`]) in
+    /// one pass over the operations at `L` points: each operation's partials go from its
+    /// evaluation straight into its gradient step, and only those a later combination
+    /// reads (folded operations') are kept, in `kept`. Values into their places
+    /// ([`super::registers::Registers`]) in `vals`, gradients into `g`; same numbers as
+    /// [`Tape::forward`] followed by [`Tape::sparse_forward`].
+    #[inline(always)]
+    pub(super) fn value_gradient_sweep<const L: usize>(
+        &self,
+        xs: [&[f64]; L],
+        vals: &mut [[f64; L]],
+        kept: &mut [[[f64; L]; 2]],
+        g: &mut [[f64; L]],
+    ) {
+        let plan = &self.sparse.compact;
+        let regs = &self.registers;
+        let vals = &mut vals[..regs.len as usize];
+        assert!(
+            kept.len() >= plan.saved_len as usize,
+            "kept-partial store shorter than the plan"
+        );
+        seed_gradients(plan, g);
+        self.seed_inputs(xs, vals);
+        let base = g.as_mut_ptr();
+        let mut steps = plan.steps.iter().peekable();
+        for (t, (op, &dst)) in regs.ops.iter().zip(&regs.dst).enumerate() {
+            let local = self.local::<1, L>(*op, vals, xs);
+            vals[dst as usize] = local.val;
+            let keep = plan.save[t];
+            if keep != u32::MAX {
+                kept[keep as usize] = local.part;
             }
-            let t = s.t as usize;
-            let (mut ca, mut cb) = ([0.0; L], [0.0; L]);
-            for l in 0..L {
-                let [pa, pb] = part[l][t];
-                ca[l] = if s.same { pa + pb } else { pa };
-                cb[l] = pb;
-            }
-            let ga = read(s.a, s.a_len);
-            if s.a_len > 0 && s.fa.ident {
-                // Same index set as the result: write, no zeroing needed.
-                for (d, x) in gk.iter_mut().zip(ga) {
-                    for l in 0..L {
-                        d[l] = ca[l] * x[l];
-                    }
-                }
-            } else {
-                gk.iter_mut().for_each(|x| *x = [0.0; L]);
-                if s.a_len > 0 {
-                    axpy(gk, ga, ca, s.fa, store);
-                }
-            }
-            if s.b_len > 0 {
-                axpy(gk, read(s.b, s.b_len), cb, s.fb, store);
+            if let Some(s) = steps.next_if(|s| s.t as usize == t) {
+                // SAFETY: as in `sparse_forward`.
+                unsafe { forward_step(s, local.part, &plan.terms, kept, &self.sparse.store, base) };
             }
         }
     }
@@ -926,7 +1039,7 @@ impl super::Tape {
     #[inline(always)]
     pub(super) fn sparse_hessian<const L: usize>(
         &self,
-        lanes: [LaneLocals<'_>; L],
+        loc: &super::Locals<L>,
         g: &[[f64; L]],
         d: &mut [[f64; L]],
         hes: [&mut [f64]; L],
@@ -945,10 +1058,13 @@ impl super::Tape {
             let t = s.t as usize;
             let (mut pa, mut pb, mut cs, mut cab, mut cbb) =
                 ([0.0; L], [0.0; L], [0.0; L], [0.0; L], [0.0; L]);
+            let [part_a, part_b] = loc.part[t];
+            let [sec_aa, sec_ab, sec_bb] = loc.sec[t];
+            let abar_k = loc.abar[s.k as usize];
             for l in 0..L {
-                let [a, b] = lanes[l].part[t];
-                let [saa, sab, sbb] = lanes[l].sec[t];
-                let ak = lanes[l].abar[s.k as usize];
+                let (a, b) = (part_a[l], part_b[l]);
+                let (saa, sab, sbb) = (sec_aa[l], sec_ab[l], sec_bb[l]);
+                let ak = abar_k[l];
                 if s.same {
                     pa[l] = a + b;
                     cs[l] = ak * (saa + 2.0 * sab + sbb);
@@ -1008,32 +1124,44 @@ impl super::Tape {
     pub(super) fn sparse_forward_batch<const L: usize>(
         &self,
         plan: &FwdPlan,
-        part: [&[[f64; 2]]; L],
+        part: &[[[f64; L]; 2]],
         g: &mut [[f64; L]],
     ) {
         with_wide_vectors(|| self.sparse_forward(plan, part, g))
+    }
+
+    /// [`super::Tape::value_gradient_sweep`] for a batch of `L` lanes, with wide vectors
+    /// when the processor has them ([`with_wide_vectors`]).
+    pub(super) fn value_gradient_batch<const L: usize>(
+        &self,
+        xs: [&[f64]; L],
+        vals: &mut [[f64; L]],
+        kept: &mut [[[f64; L]; 2]],
+        g: &mut [[f64; L]],
+    ) {
+        with_wide_vectors(|| self.value_gradient_sweep(xs, vals, kept, g))
     }
 
     /// [`super::Tape::sparse_hessian`] for a batch of `L` lanes, with wide vectors when
     /// the processor has them ([`with_wide_vectors`]).
     pub(super) fn sparse_hessian_batch<const L: usize>(
         &self,
-        lanes: [LaneLocals<'_>; L],
+        loc: &super::Locals<L>,
         g: &[[f64; L]],
         d: &mut [[f64; L]],
         hes: [&mut [f64]; L],
     ) {
-        with_wide_vectors(|| self.sparse_hessian(lanes, g, d, hes))
+        with_wide_vectors(|| self.sparse_hessian(loc, g, d, hes))
     }
 }
 
 /// Runs `f` compiled a second time for 256-bit vectors (AVX2) when the processor has them
-/// (chosen at run time; a batch entry of 4 `f64` lanes is one AVX2 register where the
-/// baseline x86-64 build needs two SSE2 operations), else as built. Same operations in
+/// (chosen at run time; a batch entry of 8 `f64` lanes is two AVX2 operations where the
+/// baseline x86-64 build needs four SSE2 ones), else as built. Same operations in
 /// the same order, no fused multiply-add: the numbers are identical. `f` inlines the
 /// `#[inline(always)]` sweeps, so they are compiled inside the AVX2 function.
 #[inline(always)]
-fn with_wide_vectors<R>(f: impl FnOnce() -> R) -> R {
+pub(super) fn with_wide_vectors<R>(f: impl FnOnce() -> R) -> R {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         #[target_feature(enable = "avx2")]
