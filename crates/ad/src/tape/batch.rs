@@ -81,7 +81,10 @@ impl Tape {
     ) {
         let m = self.outputs.len();
         let inputs = self.lane_inputs(xs, points);
-        super::sparse::with_wide_vectors(|| self.forward_lanes::<ORD, BATCH>(inputs, &mut bw.loc));
+        super::sparse::with_wide_vectors(
+            #[inline(always)]
+            || self.forward_lanes::<ORD, BATCH>(inputs, &mut bw.loc),
+        );
         for (l, y) in ys.chunks_exact_mut(m.max(1)).take(points).enumerate() {
             self.write_outputs(&bw.loc.vals, l, y);
         }

@@ -1127,7 +1127,10 @@ impl super::Tape {
         part: &[[[f64; L]; 2]],
         g: &mut [[f64; L]],
     ) {
-        with_wide_vectors(|| self.sparse_forward(plan, part, g))
+        with_wide_vectors(
+            #[inline(always)]
+            || self.sparse_forward(plan, part, g),
+        )
     }
 
     /// [`super::Tape::value_gradient_sweep`] for a batch of `L` lanes, with wide vectors
@@ -1139,7 +1142,10 @@ impl super::Tape {
         kept: &mut [[[f64; L]; 2]],
         g: &mut [[f64; L]],
     ) {
-        with_wide_vectors(|| self.value_gradient_sweep(xs, vals, kept, g))
+        with_wide_vectors(
+            #[inline(always)]
+            || self.value_gradient_sweep(xs, vals, kept, g),
+        )
     }
 
     /// [`super::Tape::sparse_hessian`] for a batch of `L` lanes, with wide vectors when
@@ -1151,7 +1157,10 @@ impl super::Tape {
         d: &mut [[f64; L]],
         hes: [&mut [f64]; L],
     ) {
-        with_wide_vectors(|| self.sparse_hessian(loc, g, d, hes))
+        with_wide_vectors(
+            #[inline(always)]
+            || self.sparse_hessian(loc, g, d, hes),
+        )
     }
 }
 
