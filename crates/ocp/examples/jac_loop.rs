@@ -1,6 +1,7 @@
 //! Development driver: time the gait NLP's constraint Jacobian (50 intervals, data-informed
 //! walking guess, node cache cleared before every call) and print the median.
-//! `cargo run --release -p stride-ocp --example jac_loop -- [reps] [threads]`; with
+//! `cargo run --release -p stride-ocp --example jac_loop -- [reps] [threads] [hessian]`;
+//! with `hessian` the Lagrangian Hessian (multipliers 1, cold cache) is timed instead. With
 //! `JAC_OUT=<file>` the values are also written as little-endian `f64` (to compare builds
 //! bit for bit).
 use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
@@ -19,7 +20,14 @@ fn main() {
         stride_ocp::predict::transcribe(&model, &settings, GuessKind::DataInformedWalking).unwrap();
     let mut x = vec![0.0; nlp.n()];
     nlp.initial_point(&mut x);
-    let mut jac = vec![0.0; nlp.jacobian_structure().nnz()];
+    let hessian = std::env::args().nth(3).as_deref() == Some("hessian");
+    let nnz = if hessian {
+        nlp.hessian_structure().nnz()
+    } else {
+        nlp.jacobian_structure().nnz()
+    };
+    let mut jac = vec![0.0; nnz];
+    let lambda = vec![1.0; nlp.m()];
     let th: usize = std::env::args()
         .nth(2)
         .and_then(|s| s.parse().ok())
@@ -33,7 +41,11 @@ fn main() {
         for _ in 0..reps {
             nlp.clear_cache();
             let t = std::time::Instant::now();
-            nlp.jacobian_values(&x, &mut jac).unwrap();
+            if hessian {
+                nlp.hessian_values(&x, 1.0, &lambda, &mut jac).unwrap();
+            } else {
+                nlp.jacobian_values(&x, &mut jac).unwrap();
+            }
             v.push(t.elapsed().as_secs_f64() * 1e3);
         }
         v.sort_by(|a, b| a.partial_cmp(b).unwrap());
@@ -43,7 +55,8 @@ fn main() {
             std::fs::write(f, bytes).unwrap();
         }
         println!(
-            "jacobian median {:.2} ms min {:.2} (checksum {s:.12e})",
+            "{} median {:.2} ms min {:.2} (checksum {s:.12e})",
+            if hessian { "hessian" } else { "jacobian" },
             v[v.len() / 2],
             v[0]
         );
