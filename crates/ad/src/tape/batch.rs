@@ -131,10 +131,7 @@ impl Tape {
         for (l, y) in ys.chunks_exact_mut(m.max(1)).take(points).enumerate() {
             self.write_outputs(&bw.loc.vals, l, y);
         }
-        let plan = self.sparse.compact();
-        for (l, jac) in jacs.chunks_exact_mut(nnz.max(1)).take(points).enumerate() {
-            self.sparse_jacobian_extract(plan, &bw.grad, l, jac);
-        }
+        self.sparse_jacobian_extract(self.sparse.compact(), &bw.grad, jacs);
         Ok(())
     }
 
@@ -191,9 +188,7 @@ impl Tape {
         let plan = self.sparse.full();
         self.sparse_forward_batch(plan, &bw.loc.part, &mut bw.grad);
         if let Some(jacs) = jacs {
-            for (l, jac) in jacs.chunks_exact_mut(nnz_j.max(1)).take(points).enumerate() {
-                self.sparse_jacobian_extract(plan, &bw.grad, l, jac);
-            }
+            self.sparse_jacobian_extract(plan, &bw.grad, jacs);
         }
         if nnz == 0 {
             return Ok(());

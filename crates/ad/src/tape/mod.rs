@@ -346,7 +346,7 @@ impl Tape {
         check_len("Jacobian values", self.jac_pattern.nnz(), jac.len())?;
         self.value_gradient_sweep([x], &mut ws.loc.vals, &mut ws.kept, &mut ws.grad);
         self.write_outputs(&ws.loc.vals, 0, y);
-        self.sparse_jacobian_extract(self.sparse.compact(), &ws.grad, 0, jac);
+        self.sparse_jacobian_extract(self.sparse.compact(), &ws.grad, jac);
         Ok(())
     }
 

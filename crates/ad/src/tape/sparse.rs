@@ -895,9 +895,7 @@ unsafe fn forward_step<const L: usize>(
         unsafe { std::slice::from_raw_parts(base.add(start as usize), len as usize) }
     };
     if s.terms.len > 0 {
-        gk.iter_mut().for_each(|x| *x = [0.0; L]);
-        for term in &terms[s.terms.range()] {
-            let w = term.w;
+        let coefficient = |w: Weight| {
             let mut c = [w.coef; L];
             if w.side != 0 {
                 let [pa, pb] = term_part[w.part as usize];
@@ -905,7 +903,24 @@ unsafe fn forward_step<const L: usize>(
                     c[l] *= partial_of(w.side, [pa[l], pb[l]]);
                 }
             }
-            axpy(gk, read(term.set.start, term.set.len), c, term.map, store);
+            c
+        };
+        let terms = &terms[s.terms.range()];
+        for (i, term) in terms.iter().enumerate() {
+            let (c, x) = (coefficient(term.w), read(term.set.start, term.set.len));
+            if i > 0 {
+                axpy(gk, x, c, term.map, store);
+            } else if term.map.ident {
+                // The first term on the result's own index set writes it.
+                for (d, x) in gk.iter_mut().zip(x) {
+                    for l in 0..L {
+                        d[l] = c[l] * x[l];
+                    }
+                }
+            } else {
+                gk.iter_mut().for_each(|x| *x = [0.0; L]);
+                axpy(gk, x, c, term.map, store);
+            }
         }
         return;
     }
@@ -1016,18 +1031,27 @@ impl super::Tape {
     }
 
     /// Copies the Jacobian rows (forward sparse gradients of the outputs, left in `g` by
-    /// the sweep `plan`) of lane `lane`.
+    /// the sweep `plan`) of the first lanes into `jacs`, one block of the pattern's values
+    /// per lane (as many lanes as `jacs` holds blocks, at most `L`), in one pass over `g`.
     pub(super) fn sparse_jacobian_extract<const L: usize>(
         &self,
         plan: &FwdPlan,
         g: &[[f64; L]],
-        lane: usize,
-        jac: &mut [f64],
+        jacs: &mut [f64],
     ) {
+        let nnz = self.jac_pattern.nnz();
+        if nnz == 0 {
+            return;
+        }
+        let mut blocks = jacs.chunks_exact_mut(nnz).take(L);
+        let mut lanes: [&mut [f64]; L] = std::array::from_fn(|_| blocks.next().unwrap_or_default());
+        let points = lanes.iter().filter(|b| !b.is_empty()).count();
         let mut e = 0;
         for o in &plan.outputs {
             for v in &g[o.range()] {
-                jac[e] = v[lane];
+                for (l, jac) in lanes[..points].iter_mut().enumerate() {
+                    jac[e] = v[l];
+                }
                 e += 1;
             }
         }
