@@ -431,9 +431,9 @@ fn jacobian_sweep_reuses_the_places_of_dead_gradients_and_values() {
     // lives from its operation to its last reader (a few at once along the chain).
     assert!(s.n_ops > 100, "{} operations", s.n_ops);
     assert!(
-        s.jacobian_value_places <= n + 3 + 6,
+        s.value_places <= n + 3 + 6,
         "{} value places for {} inputs and {} operations",
-        s.jacobian_value_places,
+        s.value_places,
         n,
         s.n_ops
     );

@@ -197,8 +197,8 @@ pub fn derivatives_table(b: &DerivativeBench) -> String {
          n = {}, m = {}, Jacobian nnz = {}, Hessian nnz (lower triangle) = {}; \
          problem and tape built in {:.2} s\n\n\
          node tape: {} operations, {} forward-gradient entries ({} places reused by \
-         liveness in the Jacobian-only sweep, which also keeps {} values and {} partials at \
-         once), {} second-order store entries (places reused by liveness)\n\n\
+         liveness in the Jacobian-only sweep, which also keeps {} partials at once), {} value \
+         places, {} second-order store entries (places reused by liveness)\n\n\
          | evaluation |",
         b.mesh_intervals,
         b.nodes,
@@ -211,8 +211,8 @@ pub fn derivatives_table(b: &DerivativeBench) -> String {
         b.tape.n_ops,
         b.tape.grad_entries,
         b.tape.jacobian_grad_entries,
-        b.tape.jacobian_value_places,
         b.tape.jacobian_kept_partials,
+        b.tape.value_places,
         b.tape.adot_entries
     );
     for t in &b.times {

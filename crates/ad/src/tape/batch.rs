@@ -55,17 +55,20 @@ impl Tape {
             || !bw.loc.fits(self)
         {
             return Err(AdError::Workspace {
-                ws_nodes: bw.loc.nodes,
+                ws_nodes: bw.loc.nodes(),
                 tape_nodes: self.n_nodes,
             });
         }
         Ok(points)
     }
 
-    /// The inputs of each lane: point `l` of `xs`, lanes beyond the last point repeating it.
-    fn lane_inputs<'a>(&self, xs: &'a [f64], points: usize) -> [&'a [f64]; BATCH] {
-        let n = self.n_in;
-        std::array::from_fn(|l| &xs[l.min(points - 1) * n..][..n])
+    /// Copies the outputs of the first `points` lanes, left in `vals` by a forward sweep,
+    /// into `ys`, one block per point.
+    fn write_lane_outputs(&self, vals: &[[f64; BATCH]], points: usize, ys: &mut [f64]) {
+        let m = self.outputs.len().max(1);
+        for (l, y) in ys.chunks_exact_mut(m).take(points).enumerate() {
+            self.write_outputs(vals, l, y);
+        }
     }
 
     /// Value sweeps of every lane at `xs`, all lanes in one sweep (lanes beyond the last
@@ -79,18 +82,14 @@ impl Tape {
         bw: &mut BatchWorkspace,
         ys: &mut [f64],
     ) {
-        let m = self.outputs.len();
-        let inputs = self.lane_inputs(xs, points);
+        let inputs = lane_blocks(xs, self.n_in, points);
         super::sparse::with_wide_vectors(
             #[inline(always)]
             || self.forward_lanes::<ORD, BATCH>(inputs, &mut bw.loc),
         );
-        for (l, y) in ys.chunks_exact_mut(m.max(1)).take(points).enumerate() {
-            self.write_outputs(&bw.loc.vals, l, y);
-        }
+        self.write_lane_outputs(&bw.loc.vals, points, ys);
         if let Some(lambdas) = lambdas {
-            let w: [&[f64]; BATCH] =
-                std::array::from_fn(|l| &lambdas[l.min(points - 1) * m..][..m]);
+            let w = lane_blocks(lambdas, self.outputs.len(), points);
             self.adjoint_lanes(&mut bw.loc, w);
         }
     }
@@ -125,12 +124,9 @@ impl Tape {
         let nnz = self.jac_pattern.nnz();
         check_len("outputs ys", self.outputs.len() * points, ys.len())?;
         check_len("Jacobian values jacs", nnz * points, jacs.len())?;
-        let inputs = self.lane_inputs(xs, points);
+        let inputs = lane_blocks(xs, self.n_in, points);
         self.value_gradient_batch(inputs, &mut bw.loc.vals, &mut bw.kept, &mut bw.grad);
-        let m = self.outputs.len();
-        for (l, y) in ys.chunks_exact_mut(m.max(1)).take(points).enumerate() {
-            self.write_outputs(&bw.loc.vals, l, y);
-        }
+        self.write_lane_outputs(&bw.loc.vals, points, ys);
         self.sparse_jacobian_extract(self.sparse.compact(), &bw.grad, jacs);
         Ok(())
     }
@@ -207,4 +203,10 @@ impl Tape {
         self.sparse_hessian_batch(&bw.loc, &bw.grad, &mut bw.adot, outs);
         Ok(())
     }
+}
+
+/// The block of `len` values of each lane in `v` (blocks one after another): block `l`,
+/// lanes beyond the last of the `points` blocks repeating it.
+fn lane_blocks(v: &[f64], len: usize, points: usize) -> [&[f64]; BATCH] {
+    std::array::from_fn(|l| &v[l.min(points - 1) * len..][..len])
 }

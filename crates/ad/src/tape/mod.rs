@@ -80,7 +80,7 @@ pub struct Tape {
     hes_colours: usize,
     hes_chunks: Vec<HesChunk>,
     sparse: sparse::SparsePlan,
-    /// Value places of the Jacobian's fused sweep.
+    /// Places of the node values in the forward sweeps (reused by liveness).
     registers: registers::Registers,
 }
 
@@ -103,8 +103,6 @@ pub struct Workspace {
 /// points, the `L` lanes of a node side by side (one vector operation per node).
 #[derive(Clone, Debug)]
 pub(super) struct Locals<const L: usize> {
-    /// Nodes of the tape the stores are sized for.
-    nodes: usize,
     /// Node values in their places ([`registers::Registers`]: reused by liveness).
     vals: Vec<[f64; L]>,
     /// `[∂/∂a, ∂/∂b]` of each operation.
@@ -120,7 +118,6 @@ impl<const L: usize> Locals<L> {
     fn new(tape: &Tape) -> Self {
         let n_ops = tape.ops.len();
         Locals {
-            nodes: tape.n_nodes,
             vals: vec![[0.0; L]; tape.registers.len as usize],
             part: vec![[[0.0; L]; 2]; n_ops],
             sec: vec![[[0.0; L]; 3]; n_ops],
@@ -128,9 +125,14 @@ impl<const L: usize> Locals<L> {
         }
     }
 
+    /// Nodes of the tape the stores were sized for (the adjoints hold one more: the sink).
+    fn nodes(&self) -> usize {
+        self.abar.len().saturating_sub(1)
+    }
+
     /// Whether the stores were sized for `tape`.
     fn fits(&self, tape: &Tape) -> bool {
-        self.nodes == tape.n_nodes
+        self.nodes() == tape.n_nodes
             && self.part.len() == tape.ops.len()
             && self.vals.len() == tape.registers.len as usize
     }
@@ -162,9 +164,9 @@ pub struct TapeStats {
     /// Length of the store of the per-node second-order adjoints (Hessian sweep): the
     /// inputs' sets plus the most other sets live at once (places reused by liveness).
     pub adot_entries: usize,
-    /// Value places of the Jacobian-only sweep: the inputs plus the most other values
-    /// live at once (places reused by liveness; every node has one in the other sweeps).
-    pub jacobian_value_places: usize,
+    /// Value places of the forward sweeps: the inputs plus the most other values live at
+    /// once (places reused by liveness).
+    pub value_places: usize,
     /// Partials of folded operations the Jacobian-only sweep keeps at once.
     pub jacobian_kept_partials: usize,
     /// Stored scatter positions of both sparse sweeps.
@@ -210,6 +212,7 @@ impl Tape {
             .filter(|&k| active[k])
             .map(|k| k as u32)
             .collect();
+        let registers = registers::Registers::new(n_in, &ops, &outputs);
         let mut tape = Tape {
             n_in,
             n_nodes,
@@ -227,9 +230,8 @@ impl Tape {
             hes_colours: 0,
             hes_chunks: Vec::new(),
             sparse: sparse::SparsePlan::default(),
-            registers: registers::Registers::default(),
+            registers,
         };
-        tape.registers = registers::Registers::new(n_in, &tape.ops, &tape.outputs);
         let (plan, hes_pattern) = sparse::SparsePlan::new(
             n_in,
             &tape.ops,
@@ -265,7 +267,7 @@ impl Tape {
             grad_entries: self.sparse.grad_len(),
             jacobian_grad_entries: self.sparse.jacobian_grad_len(),
             adot_entries: self.sparse.adot_len(),
-            jacobian_value_places: self.registers.len as usize,
+            value_places: self.registers.len as usize,
             jacobian_kept_partials: self.sparse.kept_len(),
             map_entries: self.sparse.map_len(),
         }
@@ -308,7 +310,7 @@ impl Tape {
         check_len("inputs x", self.n_in, x.len())?;
         if !ws.loc.fits(self) {
             return Err(AdError::Workspace {
-                ws_nodes: ws.loc.nodes,
+                ws_nodes: ws.loc.nodes(),
                 tape_nodes: self.n_nodes,
             });
         }

@@ -1,7 +1,7 @@
-//! Places of the node values in a short store for sweeps that need each value only until
-//! its last reader (the Jacobian's fused value-and-gradient sweep): a value lives from its
-//! operation to the last operation that reads it (outputs to the end), and places are
-//! reused by liveness, so the store holds the most values live at once instead of every
+//! Places of the node values in a short store for the forward sweeps, which need each value
+//! only until its last reader (the reverse sweeps read partials and adjoints, not values):
+//! a value lives from its operation to the last operation that reads it (inputs and
+//! outputs for the whole sweep), and places are reused by liveness, so the store holds the most values live at once instead of every
 //! node — a few hundred kilobytes for a batch of points instead of megabytes, which stay
 //! in cache while the sweep writes and reads them.
 

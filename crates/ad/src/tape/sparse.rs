@@ -905,20 +905,11 @@ unsafe fn forward_step<const L: usize>(
             }
             c
         };
-        let terms = &terms[s.terms.range()];
-        for (i, term) in terms.iter().enumerate() {
+        for (i, term) in terms[s.terms.range()].iter().enumerate() {
             let (c, x) = (coefficient(term.w), read(term.set.start, term.set.len));
-            if i > 0 {
-                axpy(gk, x, c, term.map, store);
-            } else if term.map.ident {
-                // The first term on the result's own index set writes it.
-                for (d, x) in gk.iter_mut().zip(x) {
-                    for l in 0..L {
-                        d[l] = c[l] * x[l];
-                    }
-                }
+            if i == 0 {
+                first_term(gk, x, c, term.map, store);
             } else {
-                gk.iter_mut().for_each(|x| *x = [0.0; L]);
                 axpy(gk, x, c, term.map, store);
             }
         }
@@ -930,22 +921,35 @@ unsafe fn forward_step<const L: usize>(
             ca[l] += cb[l];
         }
     }
-    let ga = read(s.a, s.a_len);
-    if s.a_len > 0 && s.fa.ident {
-        // Same index set as the result: write, no zeroing needed.
-        for (d, x) in gk.iter_mut().zip(ga) {
-            for l in 0..L {
-                d[l] = ca[l] * x[l];
-            }
-        }
+    if s.a_len > 0 {
+        first_term(gk, read(s.a, s.a_len), ca, s.fa, store);
     } else {
         gk.iter_mut().for_each(|x| *x = [0.0; L]);
-        if s.a_len > 0 {
-            axpy(gk, ga, ca, s.fa, store);
-        }
     }
     if s.b_len > 0 {
         axpy(gk, read(s.b, s.b_len), cb, s.fb, store);
+    }
+}
+
+/// `dst = c · src` through the map `m`: written directly when `src` is on `dst`'s own
+/// index set, else `dst` zeroed and `c · src` scattered into it ([`axpy`]).
+#[inline(always)]
+fn first_term<const L: usize>(
+    dst: &mut [[f64; L]],
+    src: &[[f64; L]],
+    c: [f64; L],
+    m: Map,
+    store: &[u32],
+) {
+    if m.ident {
+        for (d, x) in dst.iter_mut().zip(src) {
+            for l in 0..L {
+                d[l] = c[l] * x[l];
+            }
+        }
+    } else {
+        dst.iter_mut().for_each(|x| *x = [0.0; L]);
+        axpy(dst, src, c, m, store);
     }
 }
 
@@ -1043,9 +1047,9 @@ impl super::Tape {
         if nnz == 0 {
             return;
         }
-        let mut blocks = jacs.chunks_exact_mut(nnz).take(L);
+        let points = (jacs.len() / nnz).min(L);
+        let mut blocks = jacs.chunks_exact_mut(nnz);
         let mut lanes: [&mut [f64]; L] = std::array::from_fn(|_| blocks.next().unwrap_or_default());
-        let points = lanes.iter().filter(|b| !b.is_empty()).count();
         let mut e = 0;
         for o in &plan.outputs {
             for v in &g[o.range()] {

@@ -3,6 +3,7 @@
 
 use super::op::{powi3, Op};
 use super::{Locals, Tape, Workspace, LANES};
+use crate::elementary::powf3;
 
 /// One node's value, partials and second partials at `L` points.
 pub(super) struct Local<const L: usize> {
@@ -10,7 +11,6 @@ pub(super) struct Local<const L: usize> {
     pub part: [[f64; L]; 2],
     pub sec: [[f64; L]; 3],
 }
-use crate::elementary::powf3;
 
 impl Tape {
     /// Forward sweep: values; with `ORD >= 1` the local partials `part`, with `ORD >= 2`
