@@ -3,11 +3,11 @@
 //! streaming passes instead of a scatter through a position per entry.
 //!
 //! The transcription pushes the constraint entries of every node's Jacobian first, node
-//! after node in the node pattern's order (row-major, the cost row last and left out),
-//! then the entries of the linear rows, row after row. So the node part of the NLP values
-//! is each node's leading block copied as it is, and the linear part is, entry by entry,
-//! a constant plus a coefficient times h = t_f / N, except the ∂/∂t_f entry of each row
-//! with h-terms (the sum of those terms' coefficients times their variables over N).
+//! after node in the node pattern's order, then the entries of the linear rows, row after
+//! row. So the node part of the NLP values is, node after node, the same selection of
+//! that node's Jacobian entries (all but the cost row's), and each value of the linear
+//! part is a constant plus a coefficient times h = t_f / N, except the ∂/∂t_f entry of each row with h-terms (the sum of those
+//! terms' coefficients times their variables over N).
 
 use crate::transcription::{LinearRow, Term};
 use rayon::prelude::*;
@@ -18,12 +18,13 @@ const CHUNK: usize = 1 << 14;
 /// The layout of the constraint Jacobian values for [`JacobianFill::fill`].
 #[derive(Clone, Debug)]
 pub(crate) struct JacobianFill {
-    /// Entries of each node's Jacobian pattern per node.
+    /// Entries of each node's Jacobian pattern.
     node_entries: usize,
-    /// How the node entries are written: the leading `block` entries of each node's
-    /// Jacobian copied to `i · block` (the layout the transcription builds), or through
-    /// one position per entry (`usize::MAX`: the cost row, not a constraint).
-    node_copy: NodeCopy,
+    /// The entries of a node's Jacobian that are constraint values, in value order.
+    node_constraints: Vec<u32>,
+    /// First NLP value of the node entries (node `i`'s from `node_start + i · block` on,
+    /// `block` the number of its constraint entries).
+    node_start: usize,
     /// First NLP value of the linear rows (they fill `linear_start..` up to `linear_end`).
     linear_start: usize,
     /// Per linear-row value: the sum of its constant coefficients.
@@ -36,31 +37,18 @@ pub(crate) struct JacobianFill {
     dtf_terms: Vec<(usize, f64)>,
 }
 
-/// How node Jacobian entries reach the NLP values.
-#[derive(Clone, Debug)]
-enum NodeCopy {
-    /// Node `i`'s first `block` entries go to `i · block ..`, in order.
-    Blocks { block: usize },
-    /// Entry `e` of the node Jacobians goes to `pos[e]` (`usize::MAX`: dropped).
-    Scatter { pos: Vec<usize> },
-}
-
 impl JacobianFill {
-    /// The layout for nodes with `node_entries` Jacobian entries each whose entry `e`
-    /// (node-major) goes to `node_pos[e]`, and for `rows` whose terms go to `row_pos`
-    /// (one position per term, then the ∂/∂t_f position of a row with h-terms).
+    /// The layout for nodes with `node_entries` Jacobian entries each, of which those
+    /// listed in `node_constraints` are constraint values written from the NLP value
+    /// `node_start` on, node after node, and for `rows` whose terms go to `row_pos` (one
+    /// position per term, then the ∂/∂t_f position of a row with h-terms).
     pub(crate) fn new(
         node_entries: usize,
-        node_pos: &[usize],
+        node_constraints: &[usize],
+        node_start: usize,
         rows: &[LinearRow],
         row_pos: &[Vec<usize>],
     ) -> Self {
-        let node_copy = match leading_blocks(node_entries, node_pos) {
-            Some(block) => NodeCopy::Blocks { block },
-            None => NodeCopy::Scatter {
-                pos: node_pos.to_vec(),
-            },
-        };
         let all = row_pos.iter().flatten().copied();
         let linear_start = all.clone().min().unwrap_or(0);
         let linear_end = all.max().map_or(linear_start, |p| p + 1);
@@ -87,7 +75,8 @@ impl JacobianFill {
         }
         Self {
             node_entries,
-            node_copy,
+            node_constraints: node_constraints.iter().map(|&e| e as u32).collect(),
+            node_start,
             linear_start,
             linear_const,
             linear_h,
@@ -100,22 +89,17 @@ impl JacobianFill {
     /// node) and of the linear rows at the point `x` with h = t_f / N (`tf`, `n` the mesh
     /// intervals) into `vals`; the speed row's entries are left to the caller.
     pub(crate) fn fill(&self, node_jac: &[f64], x: &[f64], tf: f64, n: f64, vals: &mut [f64]) {
-        match &self.node_copy {
-            NodeCopy::Blocks { block } if *block > 0 => {
-                let nodes = node_jac.len() / self.node_entries.max(1);
-                vals[..nodes * block]
-                    .par_chunks_mut(*block)
-                    .zip(node_jac.par_chunks(self.node_entries))
-                    .for_each(|(v, j)| v.copy_from_slice(&j[..*block]));
-            }
-            NodeCopy::Blocks { .. } => {}
-            NodeCopy::Scatter { pos } => {
-                for (&p, &v) in pos.iter().zip(node_jac) {
-                    if p != usize::MAX {
-                        vals[p] = v;
+        let block = self.node_constraints.len();
+        if block > 0 {
+            let nodes = node_jac.len() / self.node_entries;
+            vals[self.node_start..][..nodes * block]
+                .par_chunks_mut(block)
+                .zip(node_jac.par_chunks(self.node_entries))
+                .for_each(|(v, jac)| {
+                    for (v, &e) in v.iter_mut().zip(&self.node_constraints) {
+                        *v = jac[e as usize];
                     }
-                }
-            }
+                });
         }
         let linear = &mut vals[self.linear_start..][..self.linear_const.len()];
         linear
@@ -136,28 +120,6 @@ impl JacobianFill {
     }
 }
 
-/// `Some(block)` when entry `e` of node `i` (of `per_node` entries) goes to
-/// `i · block + e` for `e < block` and nowhere for `e ≥ block`.
-fn leading_blocks(per_node: usize, pos: &[usize]) -> Option<usize> {
-    if per_node == 0 || !pos.len().is_multiple_of(per_node) {
-        return None;
-    }
-    let block = pos[..per_node]
-        .iter()
-        .take_while(|&&p| p != usize::MAX)
-        .count();
-    let fits = pos.chunks(per_node).enumerate().all(|(i, node)| {
-        node.iter().enumerate().all(|(e, &p)| {
-            if e < block {
-                p == i * block + e
-            } else {
-                p == usize::MAX
-            }
-        })
-    });
-    fits.then_some(block)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -166,17 +128,7 @@ mod tests {
         Term { var, coef, times_h }
     }
 
-    #[test]
-    fn node_blocks_are_found_only_in_the_transcription_s_layout() {
-        let m = usize::MAX;
-        assert_eq!(leading_blocks(3, &[0, 1, m, 2, 3, m]), Some(2));
-        assert_eq!(leading_blocks(3, &[0, 1, 2, 3, 4, 5]), Some(3));
-        assert_eq!(leading_blocks(3, &[0, m, 1, 2, m, 3]), None);
-        assert_eq!(leading_blocks(3, &[2, 3, m, 0, 1, m]), None);
-        assert_eq!(leading_blocks(3, &[0, 1]), None);
-    }
-
-    /// Two nodes of three Jacobian entries (the last one the cost row), one row with a
+    /// Two nodes of three Jacobian entries (the cost row's last, then first), one row with a
     /// constant and two h-terms (one on a variable also in a constant term), one row with
     /// constants only: every value against its formula.
     #[test]
@@ -197,8 +149,6 @@ mod tests {
             },
         ];
         let (x, tf, n) = ([0.3, -1.1, 2.5, 0.7], 1.2, 5.0);
-        let node_jac = [10.0, 11.0, 99.0, 12.0, 13.0, 98.0];
-        let m = usize::MAX;
         let h = tf / n;
         // Row 0: var 0, var 1 (shared by two terms), var 2, ∂/∂t_f; row 1: var 3, var 0.
         let linear = [
@@ -209,12 +159,20 @@ mod tests {
             1.0,
             -1.0,
         ];
-        for (node_pos, node_vals) in [
-            (vec![0, 1, m, 2, 3, m], [10.0, 11.0, 12.0, 13.0]),
-            (vec![3, 0, m, 2, 1, m], [11.0, 13.0, 12.0, 10.0]),
+        for (node_jac, constraints, node_vals) in [
+            (
+                [10.0, 11.0, 99.0, 12.0, 13.0, 98.0],
+                [0, 1],
+                [10.0, 11.0, 12.0, 13.0],
+            ),
+            (
+                [99.0, 11.0, 13.0, 98.0, 10.0, 12.0],
+                [1, 2],
+                [11.0, 13.0, 10.0, 12.0],
+            ),
         ] {
             let row_pos = vec![vec![4, 5, 5, 6, 7], vec![8, 9]];
-            let fill = JacobianFill::new(3, &node_pos, &rows, &row_pos);
+            let fill = JacobianFill::new(3, &constraints, 0, &rows, &row_pos);
             let mut vals = vec![f64::NAN; 10];
             fill.fill(&node_jac, &x, tf, n, &mut vals);
             assert_eq!(vals[..4], node_vals);

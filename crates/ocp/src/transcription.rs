@@ -348,7 +348,6 @@ impl<F: NodeFunction> Transcription<F> {
 
         let mut jacobian = Sparsity::default();
         let mut hb = HessianBuilder::default();
-        let mut node_jac_pos = Vec::with_capacity(n_nodes * node_jac_pattern.len());
         let mut node_hess_pos = Vec::with_capacity(n_nodes * node_hess_pattern.len());
         let mut cost_cross_pos = Vec::new();
         let cost_entries: Vec<usize> = node_jac_pattern
@@ -357,6 +356,12 @@ impl<F: NodeFunction> Transcription<F> {
             .filter(|(_, &(o, _))| o == n_path)
             .map(|(e, _)| e)
             .collect();
+        // The node entries that are constraint values (all but the cost row's), written
+        // node after node from the first Jacobian position on.
+        let node_constraints: Vec<usize> = (0..node_jac_pattern.len())
+            .filter(|&e| node_jac_pattern[e].0 < n_path)
+            .collect();
+        let node_jac_start = jacobian.nnz();
         let mut linear_rows = Vec::new();
         let c = radau::collocation_matrix();
         let s = &problem.scaling;
@@ -411,12 +416,9 @@ impl<F: NodeFunction> Transcription<F> {
                 linear_rows.push(LinearRow { row, terms });
             }
             // Path constraints from the node function.
-            for &(o, inp) in &node_jac_pattern {
-                if o < n_path {
-                    node_jac_pos.push(jacobian.push(base + ns + o, g[inp]));
-                } else {
-                    node_jac_pos.push(usize::MAX);
-                }
+            for &e in &node_constraints {
+                let (o, inp) = node_jac_pattern[e];
+                jacobian.push(base + ns + o, g[inp]);
             }
             for &(r, cc) in &node_hess_pattern {
                 node_hess_pos.push(hb.slot(g[r], g[cc]));
@@ -561,7 +563,8 @@ impl<F: NodeFunction> Transcription<F> {
         constraint_hi[speed_row] = problem.settings.speed;
         let jac_fill = JacobianFill::new(
             node_jac_pattern.len(),
-            &node_jac_pos,
+            &node_constraints,
+            node_jac_start,
             &linear_rows,
             &linear_jac_pos,
         );
