@@ -11,6 +11,9 @@ For one `.osim` file this writes a compact JSON with
   * length [m] and tension [N] of every Ligament at random states;
   * generalised force of every CoordinateLimitForce and SpringGeneralizedForce at random
     states.
+OpenSim 4.6 rounds the centres of mass, inertias and joint offsets of an OpenSim 3.x file
+to 6 significant digits when it converts the file on loading; the script restores them
+from the file text, so the reference uses the numbers the file holds.
 Coordinates are unlocked and unclamped (inverse dynamics ignores constraints); values are
 set straight into the state (no assembly).
 
@@ -21,6 +24,7 @@ import argparse
 import json
 import math
 import os
+import xml.etree.ElementTree as ET
 
 import numpy as np
 import opensim as osim
@@ -31,6 +35,7 @@ FORCE_LAWS = ("CoordinateLimitForce", "SpringGeneralizedForce")
 def load(path, enabled):
     """Model with only the force classes in `enabled` applying force, coordinates free."""
     model = osim.Model(path)
+    restore_v3_precision(model, path)
     forces = model.updForceSet()
     for i in range(forces.getSize()):
         f = forces.get(i)
@@ -41,6 +46,39 @@ def load(path, enabled):
         coords.get(i).set_clamped(False)
     state = model.initSystem()
     return model, state
+
+
+def vec3(el, tag):
+    t = el.find(tag)
+    return osim.Vec3(*[float(x) for x in t.text.split()]) if t is not None else None
+
+
+def restore_v3_precision(model, path):
+    """Full-precision body and joint-frame numbers of an OpenSim 3.x file."""
+    root = ET.parse(path).getroot()
+    if int(root.get("Version")) >= 40000:
+        return
+    for b in root.iter("Body"):
+        if b.get("name") == "ground" or not model.getBodySet().contains(b.get("name")):
+            continue
+        body = model.updBodySet().get(b.get("name"))
+        body.setMassCenter(vec3(b, "mass_center"))
+        i = [float(b.find("inertia_" + k).text) for k in ("xx", "yy", "zz", "xy", "xz", "yz")]
+        body.setInertia(osim.Inertia(*i))
+        joint_el = b.find("Joint")
+        j = next(iter(joint_el), None) if joint_el is not None else None
+        if j is None:
+            continue
+        joint = model.updJointSet().get(j.get("name"))
+        parent = joint.getSocket("parent_frame").getConnecteePath()
+        for k in range(joint.getPropertyByName("frames").size()):
+            f = joint.upd_frames(k)
+            loc, ori = (("location_in_parent", "orientation_in_parent")
+                        if f.getName() == parent else ("location", "orientation"))
+            if vec3(j, loc) is not None:
+                f.set_translation(vec3(j, loc))
+            if vec3(j, ori) is not None:
+                f.set_orientation(vec3(j, ori))
 
 
 def coordinate_indices(model, state):

@@ -119,9 +119,11 @@ pub fn parse_osim(text_in: &str, source_name: &str) -> Result<Model, OsimError> 
         name: model_el.attribute("name").unwrap_or("").to_string(),
         ..Default::default()
     };
-    if let Some(g) = child(model_el, "gravity") {
-        model.gravity = ctx.arr_of::<3>(g)?;
-    }
+    // OpenSim's default when the file gives none: standard gravity along −y.
+    model.gravity = match child(model_el, "gravity") {
+        Some(g) => ctx.arr_of::<3>(g)?,
+        None => [0.0, -9.80665, 0.0],
+    };
     if let Some(u) = child(model_el, "length_units") {
         let t = text(u);
         if !t.is_empty() && t != "meters" && t != "m" {
