@@ -9,7 +9,7 @@ mod common;
 
 use serde_json::Value;
 use stride_model::osim::load_osim;
-use stride_model::Model;
+use stride_model::{Model, PathPointKind};
 use stride_multibody::*;
 
 fn reference(file: &str) -> Option<(Model, Value)> {
@@ -156,6 +156,62 @@ fn check_contacts(model: &Model, json: &Value) -> (f64, f64) {
     (e_tau, e_sphere)
 }
 
+/// Ligament tension at OpenSim's length, and the straight-line length of the ligaments
+/// without wrapping; returns the worst relative errors (tension, length).
+fn check_ligaments(model: &Model, json: &Value) -> (f64, f64) {
+    let coords = names(&json["coordinates"]);
+    let ligs = names(&json["ligaments"]["names"]);
+    let wrapped: Vec<&str> = model
+        .unsupported
+        .iter()
+        .filter(|u| u.element == "PathWrap")
+        .map(|u| u.path.as_str())
+        .collect();
+    let mut data = Data::<f64>::new(model).unwrap();
+    let (mut e_t, mut e_l): (f64, f64) = (0.0, 0.0);
+    let mut compared_lengths = 0;
+    for row in json["ligaments"]["states"].as_array().unwrap() {
+        let mut q = vec![0.0; model.coordinates.len()];
+        for (k, v) in floats(&row["q"]).into_iter().enumerate() {
+            q[model.coordinate_index(&coords[k]).unwrap()] = v;
+        }
+        forward_kinematics(model, &mut data, &q, &vec![0.0; q.len()]).unwrap();
+        let lengths = floats(&row["length"]);
+        let tensions = floats(&row["tension"]);
+        for (k, name) in ligs.iter().enumerate() {
+            let l = model.ligaments.iter().find(|l| &l.name == name).unwrap();
+            let curve = l.force_length.compile().unwrap();
+            let t = elements::ligament_tension(l, &curve, lengths[k]);
+            e_t = e_t.max(worst(&[t], &[tensions[k]]));
+            let tag = format!("Ligament[name={name}]/");
+            if wrapped.iter().any(|p| p.contains(&tag)) {
+                continue;
+            }
+            assert!(l
+                .path
+                .iter()
+                .all(|p| matches!(p.kind, PathPointKind::Fixed)));
+            let pts: Vec<[f64; 3]> = l
+                .path
+                .iter()
+                .map(|p| point_position(&data, p.body, p.location))
+                .collect();
+            let len: f64 = pts
+                .windows(2)
+                .map(|w| {
+                    let d = [w[1][0] - w[0][0], w[1][1] - w[0][1], w[1][2] - w[0][2]];
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+                })
+                .sum();
+            // Lengths are far below 1 m: compare relative to the length itself.
+            e_l = e_l.max((len - lengths[k]).abs() / lengths[k]);
+            compared_lengths += 1;
+        }
+    }
+    assert!(compared_lengths > 0);
+    (e_t, e_l)
+}
+
 fn check_model(file: &str) {
     let Some((model, json)) = reference(file) else {
         return;
@@ -172,6 +228,12 @@ fn check_model(file: &str) {
             "{file}: inverse dynamics with contact error {et:.3e}"
         );
         assert!(es <= 1e-6, "{file}: sphere load error {es:.3e}");
+    }
+    if json.get("ligaments").is_some() {
+        let (et, el) = check_ligaments(&model, &json);
+        println!("{file}: ligament tension {et:.2e}, straight-path length {el:.2e}");
+        assert!(et <= 1e-6, "{file}: ligament tension error {et:.3e}");
+        assert!(el <= 1e-6, "{file}: ligament length error {el:.3e}");
     }
 }
 
