@@ -86,13 +86,10 @@ impl SplineCoefficients {
         Self { x, y, b, c, d }
     }
 
-    /// Coefficients of a model spline (`NaturalCubicSpline`, `PiecewiseLinear`) as the
-    /// model computes them; empty when its knots are invalid (the importer rejects those).
+    /// Coefficients of a model `PiecewiseLinear` function as the model computes them;
+    /// empty when its knots are invalid (the importer rejects those).
     pub fn from_model(f: &Function) -> Self {
         let seg = match f {
-            Function::NaturalCubicSpline { x, y } => {
-                stride_model::function::natural_cubic_spline(x, y)
-            }
             Function::PiecewiseLinear { x, y } => stride_model::function::piecewise_linear(x, y),
             _ => Err(stride_model::function::FunctionError::TooFewKnots(0)),
         };
@@ -162,9 +159,7 @@ impl PreparedFunction {
             Function::Constant(v) => Self::Constant(*v),
             Function::Linear { slope, intercept } => Self::Linear(*slope, *intercept),
             Function::SimmSpline { x, y } => Self::Spline(SplineCoefficients::new(x, y)),
-            Function::NaturalCubicSpline { .. } | Function::PiecewiseLinear { .. } => {
-                Self::Spline(SplineCoefficients::from_model(f))
-            }
+            Function::PiecewiseLinear { .. } => Self::Spline(SplineCoefficients::from_model(f)),
             Function::Polynomial { coefficients } => Self::Polynomial(coefficients.clone()),
             Function::Multiplier { scale, function } => {
                 Self::Multiplier(*scale, Box::new(Self::new(function)))

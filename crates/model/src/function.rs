@@ -266,9 +266,6 @@ impl Function {
                 Ok(CompiledFunction::Polynomial(coefficients.clone()))
             }
             Function::SimmSpline { x, y } => Ok(CompiledFunction::spline(simm_spline(x, y)?)),
-            Function::NaturalCubicSpline { x, y } => {
-                Ok(CompiledFunction::spline(natural_cubic_spline(x, y)?))
-            }
             Function::PiecewiseLinear { x, y } => {
                 Ok(CompiledFunction::spline(piecewise_linear(x, y)?))
             }
@@ -343,28 +340,6 @@ pub fn simm_spline(x: &[f64], y: &[f64]) -> Result<CubicSegments, FunctionError>
         let right = 6.0 * d3(n - 4);
         second_derivatives(x, y, EndRule::ThirdDerivative(left, right))
     };
-    Ok(CubicSegments::from_second_derivatives(x, y, &m))
-}
-
-/// OpenSim `NaturalCubicSpline` coefficients: zero second derivative at the first and
-/// last knot; two knots give a line.
-pub fn natural_cubic_spline(x: &[f64], y: &[f64]) -> Result<CubicSegments, FunctionError> {
-    check_knots(x, y)?;
-    let n = x.len();
-    let mut m = vec![0.0; n];
-    if n >= 3 {
-        // Interior second derivatives: h_{i-1} M_{i-1} + 2(h_{i-1}+h_i) M_i + h_i M_{i+1}
-        // = 6 (δ_i − δ_{i-1}) with M_0 = M_{n-1} = 0.
-        let h: Vec<f64> = (0..n - 1).map(|i| x[i + 1] - x[i]).collect();
-        let delta: Vec<f64> = (0..n - 1).map(|i| (y[i + 1] - y[i]) / h[i]).collect();
-        let lo: Vec<f64> = (1..n - 1).map(|i| h[i - 1]).collect();
-        let di: Vec<f64> = (1..n - 1).map(|i| 2.0 * (h[i - 1] + h[i])).collect();
-        let up: Vec<f64> = (1..n - 1).map(|i| h[i]).collect();
-        let r: Vec<f64> = (1..n - 1)
-            .map(|i| 6.0 * (delta[i] - delta[i - 1]))
-            .collect();
-        m[1..n - 1].copy_from_slice(&solve_tridiagonal(&lo, &di, &up, &r));
-    }
     Ok(CubicSegments::from_second_derivatives(x, y, &m))
 }
 
@@ -532,26 +507,6 @@ mod tests {
             intercept: 0.25,
         };
         assert_eq!(l.eval_f64(2.0).unwrap(), [-2.75, -1.5, 0.0]);
-    }
-
-    #[test]
-    fn natural_spline_has_zero_end_curvature_and_interpolates() {
-        let xs = [0.0, 0.5, 1.2, 2.0, 2.4];
-        let ys = [1.0, -0.5, 0.3, 0.9, 0.2];
-        let s = natural_cubic_spline(&xs, &ys).unwrap();
-        for (i, (&x, &y)) in xs.iter().zip(&ys).enumerate() {
-            let v = s.eval4(x);
-            assert!((v[0] - y).abs() < 1e-12, "knot {i}");
-        }
-        assert!(s.eval4(0.0)[2].abs() < 1e-12);
-        assert!(s.eval4(2.4)[2].abs() < 1e-12);
-        // C2 at an interior knot: second derivative from both sides.
-        let e = 1e-9;
-        assert!((s.eval4(1.2 - e)[2] - s.eval4(1.2 + e)[2]).abs() < 1e-6);
-        // Three knots: one interior unknown, 2 (h0 + h1) M1 = 6 (δ1 − δ0).
-        let t = natural_cubic_spline(&[0.0, 1.0, 3.0], &[0.0, 1.0, 0.0]).unwrap();
-        let m1 = 6.0 * (-0.5 - 1.0) / (2.0 * 3.0);
-        assert!((t.eval4(1.0)[2] - m1).abs() < 1e-12);
     }
 
     #[test]

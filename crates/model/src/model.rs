@@ -136,16 +136,9 @@ pub enum Function {
         /// Value at x = 0.
         intercept: f64,
     },
-    /// OpenSim `SimmSpline`: cubic spline through the knots `(x, y)` with Forsythe–Malcolm–Moler end conditions (not natural), linear extrapolation.
+    /// OpenSim `SimmSpline`: cubic spline through the knots `(x, y)` with Forsythe–Malcolm–Moler end conditions (not natural), linear extrapolation. OpenSim 4 reads a
+    /// `NaturalCubicSpline` element as this type too.
     SimmSpline {
-        /// Knot abscissae (strictly increasing).
-        x: Vec<f64>,
-        /// Knot ordinates.
-        y: Vec<f64>,
-    },
-    /// OpenSim `NaturalCubicSpline`: cubic spline through the knots `(x, y)` with zero
-    /// second derivative at both ends, linear extrapolation.
-    NaturalCubicSpline {
         /// Knot abscissae (strictly increasing).
         x: Vec<f64>,
         /// Knot ordinates.

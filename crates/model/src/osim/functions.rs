@@ -37,13 +37,11 @@ pub(crate) fn parse_function(ctx: &Ctx, f: El) -> Result<Function, OsimError> {
                 intercept: v[1],
             })
         }
-        "SimmSpline" => {
+        // OpenSim 4 registers `NaturalCubicSpline` as another name of `SimmSpline` (a
+        // file's NaturalCubicSpline evaluates as a SimmSpline there).
+        "SimmSpline" | "NaturalCubicSpline" => {
             let (x, y) = knots(ctx, f)?;
             Ok(Function::SimmSpline { x, y })
-        }
-        "NaturalCubicSpline" => {
-            let (x, y) = knots(ctx, f)?;
-            Ok(Function::NaturalCubicSpline { x, y })
         }
         "PiecewiseLinearFunction" => {
             let (x, y) = knots(ctx, f)?;
