@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
-"""A small OpenSim 4 model with the joint kinds (but Ball and Free), function type, a coordinate coupler, a
+"""A small OpenSim 4 model with every joint kind, function type, a coordinate coupler, a
 CoordinateLimitForce and a SpringGeneralizedForce, and its OpenSim reference numbers.
 
 Writes MODEL.osim (the model, built here with the OpenSim API) and OUT.json with
   * bodies (mass, centre of mass, inertia);
-  * inverse dynamics with gravity only at random states, in stride's convention (q̇ and
-    q̈ are mapped to OpenSim's u, u̇ with Simbody's N matrix and the forces back with
-    Nᵀ, the identity for these joints); the coupled coordinate's value, speed and
-    acceleration follow the coupler function and its force is moved onto the
-    independent coordinate (τ_i += f'(q_i) τ_d, τ_d = 0), as stride eliminates it;
+  * inverse dynamics with gravity only at random states, in stride's convention: the
+    speeds of the BallJoint and FreeJoint rotations are the angle rates (OpenSim's are
+    the angular velocity), converted as in `inverse_dynamics`; the coupled coordinate's
+    value, speed and acceleration follow the coupler function and its force is moved
+    onto the independent coordinate (τ_i += f'(q_i) τ_d, τ_d = 0), as stride eliminates it;
   * the generalised force of the CoordinateLimitForce and the SpringGeneralizedForce at
     random states (limit force states spread around the limits).
 
@@ -24,7 +24,8 @@ import numpy as np
 import opensim as osim
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from dynamics_reference import bodies, compact, forces_of  # noqa: E402
+from dynamics_reference import (  # noqa: E402
+    bodies, compact, coordinate_indices, forces_of, set_state)
 
 V = osim.Vec3
 
@@ -84,9 +85,7 @@ def build(path):
     m.setName("joint_kinds")
     m.setGravity(V(0.3, -9.80665, -0.2))
     inertia = lambda s: (0.05 * s, 0.04 * s, 0.03 * s, 0.004 * s, -0.003 * s, 0.002 * s)
-    # BallJoint and FreeJoint are left out: OpenSim 4.6 gives them quaternion
-    # mobilisers (4 q for 3 u), which have no per-coordinate OpenSim reference.
-    names = ["gimbal", "universal", "planar", "slider", "pin", "custom", "weld"]
+    names = ["free", "ball", "gimbal", "universal", "planar", "slider", "pin", "custom", "weld"]
     bs = [body(m, f"b_{n}", 1.0 + 0.3 * k, (0.02 * k, -0.1, 0.03), inertia(1 + 0.2 * k))
           for k, n in enumerate(names)]
     ori = lambda k: V(0.1 * k, -0.2 + 0.05 * k, 0.3 - 0.04 * k)
@@ -143,17 +142,6 @@ def build(path):
     write_custom_functions(path)
 
 
-def to_vec(xs):
-    v = osim.Vector(len(xs), 0.0)
-    for k, x in enumerate(xs):
-        v.set(k, x)
-    return v
-
-
-def from_vec(v):
-    return [v.get(k) for k in range(v.size())]
-
-
 def coupler_values(model, q, qd, qdd, names):
     """Fill the dependent coordinate from the coupler; returns its index, f'."""
     cc = osim.CoordinateCouplerConstraint.safeDownCast(model.getConstraintSet().get(0))
@@ -168,23 +156,45 @@ def coupler_values(model, q, qd, qdd, names):
     return i, d, d1
 
 
-def inverse_dynamics(model, state, q, qd, qdd):
-    """τ conjugate to q̇ for q, q̇, q̈ in state (q) order."""
-    matter = model.getMatterSubsystem()
-    state.setQ(to_vec(q))
-    u = osim.Vector()
-    matter.multiplyByNInv(state, False, to_vec(qd), u)
-    state.setU(u)
-    model.realizeVelocity(state)
-    ndot_u = osim.Vector()
-    matter.calcQDotDot(state, osim.Vector(state.getNU(), 0.0), ndot_u)
-    rhs = to_vec([a - b for a, b in zip(qdd, from_vec(ndot_u))])
-    udot = osim.Vector()
-    matter.multiplyByNInv(state, False, rhs, udot)
-    tau_u = osim.InverseDynamicsSolver(model).solve(state, udot)
-    tau_q = osim.Vector()
-    matter.multiplyByNInv(state, True, tau_u, tau_q)
-    return from_vec(tau_q)
+def euler_rates(q, qd):
+    """E with ω_F = E q̇ for body-fixed x-y-z angles q (ω of M in F, F components), and
+    Ė q̇."""
+    def rot(axis, a):
+        c, s_ = np.cos(a), np.sin(a)
+        i, j = [(1, 2), (2, 0), (0, 1)][axis]
+        r = np.eye(3)
+        r[i, i], r[i, j], r[j, i], r[j, j] = c, -s_, s_, c
+        return r
+    ex, ey, ez = np.eye(3)
+    a2 = rot(0, q[0]) @ ey
+    a3 = rot(0, q[0]) @ rot(1, q[1]) @ ez
+    e = np.column_stack([ex, a2, a3])
+    a2dot = np.cross(ex * qd[0], a2)
+    a3dot = np.cross(ex * qd[0] + a2 * qd[1], a3)
+    return e, a2dot * qd[1] + a3dot * qd[2]
+
+
+def inverse_dynamics(model, state, index, names, q, qd, qdd):
+    """τ conjugate to q̇ for q, q̇, q̈ in coordinate order. OpenSim's speeds of the Ball
+    and Free rotations are the angular velocity ω_F = E q̇ (checked: their
+    coordinates are body-fixed x-y-z angles), so u = E q̇, u̇ = E q̈ + Ė q̇, τ = Eᵀ τ_u."""
+    u, udot = np.array(qd, float), np.array(qdd, float)
+    maps = []
+    for prefix in ("free", "ball"):
+        k = [names.index(f"{prefix}_{i}") for i in range(3)]
+        e, edot_qd = euler_rates(np.array(q)[k], np.array(qd)[k])
+        u[k] = e @ np.array(qd)[k]
+        udot[k] = e @ np.array(qdd)[k] + edot_qd
+        maps.append((k, e))
+    set_state(model, state, index, q, list(u))
+    ud = osim.Vector(state.getNU(), 0.0)
+    for (_, _, ui), a in zip(index, udot):
+        ud.set(ui, float(a))
+    tau_u = osim.InverseDynamicsSolver(model).solve(state, ud)
+    tau = np.array([tau_u.get(ui) for (_, _, ui) in index])
+    for k, e in maps:
+        tau[k] = e.T @ tau[k]
+    return [float(t) for t in tau]
 
 
 def load(path, enabled):
@@ -193,20 +203,6 @@ def load(path, enabled):
         f.set_appliesForce(f.getConcreteClassName() in enabled)
     state = model.initSystem()
     return model, state
-
-
-def q_order(model, state):
-    """Coordinate names in state q order (the joints here map one q per coordinate)."""
-    cs = model.getCoordinateSet()
-    names = [None] * state.getNQ()
-    for k in range(cs.getSize()):
-        c = cs.get(k)
-        state.setQ(osim.Vector(state.getNQ(), 0.0))
-        c.setValue(state, 0.5, False)
-        idx = [i for i in range(state.getNQ()) if state.getQ().get(i) != 0.0]
-        assert len(idx) == 1, (c.getName(), idx)
-        names[idx[0]] = c.getName()
-    return names
 
 
 def main():
@@ -220,8 +216,8 @@ def main():
     rng = np.random.default_rng(a.seed)
     build(a.model)
     model, state = load(a.model, ())
-    assert state.getNQ() == state.getNU(), "Euler angles expected (no quaternions)"
-    names = q_order(model, state)
+    index = coordinate_indices(model, state)
+    names = [n for n, _, _ in index]
     rows = []
     for _ in range(a.states):
         q = [round(x, 6) for x in rng.uniform(-1.2, 1.2, len(names))]
@@ -229,11 +225,12 @@ def main():
         qdd = [round(x, 6) for x in rng.uniform(-10, 10, len(names))]
         inputs = (list(q), list(qd), list(qdd))
         i, d, d1 = coupler_values(model, q, qd, qdd, names)
-        tau = inverse_dynamics(model, state, q, qd, qdd)
+        tau = inverse_dynamics(model, state, index, names, q, qd, qdd)
         tau[i] += d1 * tau[d]
         tau[d] = 0.0
         rows.append({"q": inputs[0], "qdot": inputs[1], "qddot": inputs[2], "tau": tau})
     model, state = load(a.model, ("CoordinateLimitForce", "SpringGeneralizedForce"))
+    index = coordinate_indices(model, state)
     els = forces_of(model, "CoordinateLimitForce") + forces_of(model, "SpringGeneralizedForce")
     force_rows = []
     for _ in range(a.states):
@@ -241,8 +238,7 @@ def main():
         qd = [round(x, 6) for x in rng.uniform(-2, 2, len(names))]
         # Spread the pin angle over both limits and their transitions (-30, 40 deg).
         q[names.index("pin_0")] = round(rng.uniform(-0.65, 0.8), 6)
-        state.setQ(to_vec(q))
-        state.setU(to_vec(qd))
+        set_state(model, state, index, q, qd)
         model.realizeDynamics(state)
         force_rows.append({"q": q, "qdot": qd,
                            "force": [f.getRecordValues(state).get(0) for f in els]})
