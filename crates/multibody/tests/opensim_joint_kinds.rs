@@ -1,12 +1,12 @@
-//! A model with every joint kind (Free, Ball, Gimbal, Universal, Planar, Slider, Pin, Custom with a non-orthogonal rotation axis and NaturalCubicSpline
-//! (which OpenSim 4 reads as a SimmSpline), PiecewiseLinearFunction,
-//! PolynomialFunction, MultiplierFunction(SimmSpline), LinearFunction and Constant axes,
-//! Weld), a CoordinateCouplerConstraint, a CoordinateLimitForce and a
-//! SpringGeneralizedForce, built and evaluated by OpenSim
-//! (`tools/opensim_reference/skeleton_joints.py`): bodies exact, inverse dynamics with the
-//! coupled coordinate eliminated and the coordinate forces within 1e-6 relative (1e-6
-//! absolute below 1). Ball and Free speeds are angle rates in stride; the reference converts
-//! OpenSim's angular-velocity speeds and forces to them.
+//! A model with every joint kind (Free, Ball, Gimbal, Universal, Planar, Slider, Pin,
+//! Custom with a non-orthogonal rotation axis and NaturalCubicSpline (which OpenSim 4 reads
+//! as a SimmSpline), PiecewiseLinearFunction, PolynomialFunction,
+//! MultiplierFunction(SimmSpline), LinearFunction and Constant axes, Weld), a
+//! CoordinateCouplerConstraint, a CoordinateLimitForce and a SpringGeneralizedForce, built
+//! and evaluated by OpenSim (`tools/opensim_reference/skeleton_joints.py`): bodies exact,
+//! inverse dynamics with the coupled coordinate eliminated and the coordinate forces within
+//! 1e-6 relative (1e-6 absolute below 1). Ball and Free speeds are angle rates in stride;
+//! the reference converts OpenSim's angular-velocity speeds and forces to them.
 
 use serde_json::Value;
 use std::path::PathBuf;
