@@ -86,6 +86,25 @@ impl SplineCoefficients {
         Self { x, y, b, c, d }
     }
 
+    /// Coefficients of a model `PiecewiseLinear` function as the model computes them;
+    /// empty when its knots are invalid (the importer rejects those).
+    pub fn from_model(f: &Function) -> Self {
+        let seg = match f {
+            Function::PiecewiseLinear { x, y } => stride_model::function::piecewise_linear(x, y),
+            _ => Err(stride_model::function::FunctionError::TooFewKnots(0)),
+        };
+        match seg {
+            Ok(s) => Self {
+                x: s.x,
+                y: s.y,
+                b: s.b,
+                c: s.c,
+                d: s.d,
+            },
+            Err(_) => Self::new(&[], &[]),
+        }
+    }
+
     /// Spline value at `x`; linear extrapolation with the end slopes outside the knots.
     pub fn eval<T: Scalar>(&self, x: T) -> T {
         let n = self.x.len();
@@ -140,6 +159,7 @@ impl PreparedFunction {
             Function::Constant(v) => Self::Constant(*v),
             Function::Linear { slope, intercept } => Self::Linear(*slope, *intercept),
             Function::SimmSpline { x, y } => Self::Spline(SplineCoefficients::new(x, y)),
+            Function::PiecewiseLinear { .. } => Self::Spline(SplineCoefficients::from_model(f)),
             Function::Polynomial { coefficients } => Self::Polynomial(coefficients.clone()),
             Function::Multiplier { scale, function } => {
                 Self::Multiplier(*scale, Box::new(Self::new(function)))

@@ -266,6 +266,9 @@ impl Function {
                 Ok(CompiledFunction::Polynomial(coefficients.clone()))
             }
             Function::SimmSpline { x, y } => Ok(CompiledFunction::spline(simm_spline(x, y)?)),
+            Function::PiecewiseLinear { x, y } => {
+                Ok(CompiledFunction::spline(piecewise_linear(x, y)?))
+            }
             Function::Multiplier { scale, function } => {
                 finite(&[*scale], "multiplier scale")?;
                 Ok(function.compile()?.scaled(*scale))
@@ -338,6 +341,17 @@ pub fn simm_spline(x: &[f64], y: &[f64]) -> Result<CubicSegments, FunctionError>
         second_derivatives(x, y, EndRule::ThirdDerivative(left, right))
     };
     Ok(CubicSegments::from_second_derivatives(x, y, &m))
+}
+
+/// OpenSim `PiecewiseLinearFunction` as cubic segments without curvature: the slope of
+/// each interval, the first and last slopes continuing outside the knots.
+pub fn piecewise_linear(x: &[f64], y: &[f64]) -> Result<CubicSegments, FunctionError> {
+    check_knots(x, y)?;
+    Ok(CubicSegments::from_second_derivatives(
+        x,
+        y,
+        &vec![0.0; x.len()],
+    ))
 }
 
 /// End conditions of [`second_derivatives`].
@@ -493,6 +507,18 @@ mod tests {
             intercept: 0.25,
         };
         assert_eq!(l.eval_f64(2.0).unwrap(), [-2.75, -1.5, 0.0]);
+    }
+
+    #[test]
+    fn piecewise_linear_interpolates_and_extrapolates_with_end_slopes() {
+        let f = Function::PiecewiseLinear {
+            x: vec![0.0, 1.0, 3.0],
+            y: vec![0.0, 2.0, 1.0],
+        };
+        assert_eq!(f.eval_f64(0.5).unwrap(), [1.0, 2.0, 0.0]);
+        assert_eq!(f.eval_f64(2.0).unwrap(), [1.5, -0.5, 0.0]);
+        assert_eq!(f.eval_f64(-1.0).unwrap(), [-2.0, 2.0, 0.0]);
+        assert_eq!(f.eval_f64(5.0).unwrap(), [0.0, -0.5, 0.0]);
     }
 
     #[test]

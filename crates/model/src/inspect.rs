@@ -1,6 +1,6 @@
 //! Human-readable tables describing a model (used by `stride model inspect`).
 
-use crate::model::{JointKind, Model, MotionType, PathPointKind};
+use crate::model::{CoordinateForceLaw, JointKind, Model, MotionType, PathPointKind};
 use std::fmt::Write as _;
 
 fn v3(v: [f64; 3]) -> String {
@@ -171,9 +171,13 @@ pub fn render(model: &Model) -> String {
 
     let _ = writeln!(s, "\nACTUATORS");
     for a in &m.actuators {
+        let tau = match a.activation_time_constant {
+            Some(t) => format!("  activation time constant {t} s"),
+            None => String::new(),
+        };
         let _ = writeln!(
             s,
-            "{:<20} {:<16} optimal force {:>8.2}  control [{}, {}]",
+            "{:<20} {:<16} optimal force {:>8.2}  control [{}, {}]{tau}",
             a.name,
             m.coordinates[a.coordinate].name,
             a.optimal_force,
@@ -206,6 +210,8 @@ pub fn render(model: &Model) -> String {
     if m.passive_torques.is_empty() {
         let _ = writeln!(s, "(none)");
     }
+
+    render_other_forces(&mut s, m);
 
     let _ = writeln!(s, "\nPOLYNOMIAL GEOMETRY");
     let fitted: Vec<(usize, &crate::model::PathPolynomial)> = m
@@ -266,6 +272,55 @@ pub fn render(model: &Model) -> String {
         }
     }
     s
+}
+
+/// Ligaments, coordinate couplers and coordinate forces (only the sections the model has).
+fn render_other_forces(s: &mut String, m: &Model) {
+    if !m.ligaments.is_empty() {
+        let _ = writeln!(s, "\nLIGAMENTS");
+        for l in &m.ligaments {
+            let _ = writeln!(
+                s,
+                "{:<32} resting length {:.6} m  pcsa force {:.3} N  {} path points",
+                l.name,
+                l.resting_length,
+                l.pcsa_force,
+                l.path.len()
+            );
+        }
+    }
+    if !m.couplers.is_empty() {
+        let _ = writeln!(s, "\nCOUPLED COORDINATES (eliminated by substitution)");
+        for c in &m.couplers {
+            let _ = writeln!(
+                s,
+                "{:<24} {} = f({})",
+                c.name, m.coordinates[c.dependent].name, m.coordinates[c.independent].name
+            );
+        }
+    }
+    if !m.coordinate_forces.is_empty() {
+        let _ = writeln!(s, "\nCOORDINATE FORCES");
+        for f in &m.coordinate_forces {
+            let law = match &f.law {
+                CoordinateForceLaw::CoordinateLimit {
+                    lower_limit,
+                    upper_limit,
+                    ..
+                } => format!("limit force, limits [{lower_limit}, {upper_limit}]"),
+                CoordinateForceLaw::Spring {
+                    stiffness,
+                    rest_length,
+                    viscosity,
+                } => format!("spring k {stiffness} rest {rest_length} viscosity {viscosity}"),
+            };
+            let _ = writeln!(
+                s,
+                "{:<24} {:<16} {law}",
+                f.name, m.coordinates[f.coordinate].name
+            );
+        }
+    }
 }
 
 #[cfg(test)]

@@ -41,6 +41,17 @@ pub struct Model {
     pub path_polynomials: Vec<Option<PathPolynomial>>,
     /// Elements of the source file that were not imported, reported to the user.
     pub unsupported: Vec<UnsupportedElement>,
+    /// Passive elastic elements along a path (OpenSim `Ligament`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ligaments: Vec<Ligament>,
+    /// Coordinates given as functions of other coordinates (OpenSim
+    /// `CoordinateCouplerConstraint`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub couplers: Vec<CoordinateCoupler>,
+    /// Generalised forces of one coordinate (OpenSim `CoordinateLimitForce`,
+    /// `SpringGeneralizedForce`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub coordinate_forces: Vec<CoordinateForce>,
 }
 
 /// A rigid body.
@@ -125,8 +136,17 @@ pub enum Function {
         /// Value at x = 0.
         intercept: f64,
     },
-    /// OpenSim `SimmSpline`: cubic spline through the knots `(x, y)` with Forsythe–Malcolm–Moler end conditions (not natural), linear extrapolation.
+    /// OpenSim `SimmSpline`: cubic spline through the knots `(x, y)` with Forsythe–Malcolm–Moler end conditions (not natural), linear extrapolation. OpenSim 4 reads a
+    /// `NaturalCubicSpline` element as this type too.
     SimmSpline {
+        /// Knot abscissae (strictly increasing).
+        x: Vec<f64>,
+        /// Knot ordinates.
+        y: Vec<f64>,
+    },
+    /// OpenSim `PiecewiseLinearFunction`: straight lines between the knots `(x, y)`,
+    /// extended with the first and last slope outside them.
+    PiecewiseLinear {
         /// Knot abscissae (strictly increasing).
         x: Vec<f64>,
         /// Knot ordinates.
@@ -181,6 +201,12 @@ pub enum MuscleKind {
     Thelen2003,
     /// OpenSim `Millard2012EquilibriumMuscle`.
     Millard2012Equilibrium,
+    /// OpenSim `Millard2012AccelerationMuscle`.
+    Millard2012Acceleration,
+    /// OpenSim `DeGrooteFregly2016Muscle`.
+    DeGrooteFregly2016,
+    /// OpenSim `RigidTendonMuscle`.
+    RigidTendon,
 }
 
 /// A muscle–tendon unit: Hill parameters and its path.
@@ -341,6 +367,92 @@ pub struct CoordinateActuator {
     pub optimal_force: f64,
     /// Control bounds `[min, max]`.
     pub control_range: [f64; 2],
+    /// Activation time constant τ [s] of an OpenSim `ActivationCoordinateActuator`
+    /// (first-order dynamics ȧ = (u − a)/τ, generalised force = `optimal_force · a`);
+    /// `None` for a plain `CoordinateActuator` (force = `optimal_force · control`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub activation_time_constant: Option<f64>,
+}
+
+/// An OpenSim `Ligament`: a passive element along a path whose tension [N] is
+/// `pcsa_force · force_length(l / resting_length)` when its length `l` exceeds
+/// `resting_length`, and zero otherwise.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Ligament {
+    /// Element name.
+    pub name: String,
+    /// Length below which the ligament is slack [m].
+    pub resting_length: f64,
+    /// Force scale of the normalised force–length curve [N].
+    pub pcsa_force: f64,
+    /// Normalised force–length curve: tension / `pcsa_force` as a function of
+    /// length / `resting_length` (dimensionless).
+    pub force_length: Function,
+    /// Path points from origin to insertion (wrapping over wrap objects is not part of it).
+    pub path: Vec<PathPoint>,
+}
+
+/// A dependent coordinate that follows an independent one:
+/// `q[dependent] = function(q[independent])` (OpenSim `CoordinateCouplerConstraint`).
+/// The multibody layer eliminates the dependent coordinate by substitution: its value,
+/// speed and acceleration follow from the independent coordinate's, and its generalised
+/// force is carried by the independent coordinate.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CoordinateCoupler {
+    /// Constraint name.
+    pub name: String,
+    /// Coordinate given by the function.
+    pub dependent: CoordId,
+    /// Coordinate the function reads.
+    pub independent: CoordId,
+    /// Dependent value [rad or m] as a function of the independent value [rad or m].
+    pub function: Function,
+}
+
+/// A generalised force acting on one coordinate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CoordinateForce {
+    /// Element name.
+    pub name: String,
+    /// The coordinate it acts on.
+    pub coordinate: CoordId,
+    /// Its force law.
+    pub law: CoordinateForceLaw,
+}
+
+/// Force laws of [`CoordinateForce`], as OpenSim defines them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum CoordinateForceLaw {
+    /// OpenSim `CoordinateLimitForce`: stiff springs beyond `[lower_limit, upper_limit]`
+    /// that switch on smoothly over `transition`, plus damping that switches on with them.
+    /// Stiffnesses are in N m per degree (rotational) or N per m (translational) and the
+    /// limits and transition in degrees or m, as in the file; `rotational` tells which.
+    CoordinateLimit {
+        /// Stiffness beyond the upper limit [N m deg⁻¹ or N m⁻¹].
+        upper_stiffness: f64,
+        /// Upper limit [deg or m].
+        upper_limit: f64,
+        /// Stiffness beyond the lower limit [N m deg⁻¹ or N m⁻¹].
+        lower_stiffness: f64,
+        /// Lower limit [deg or m].
+        lower_limit: f64,
+        /// Damping [N m s deg⁻¹ or N s m⁻¹].
+        damping: f64,
+        /// Width over which the springs and damping switch on [deg or m].
+        transition: f64,
+        /// Whether the coordinate is an angle (file values in degrees).
+        rotational: bool,
+    },
+    /// OpenSim `SpringGeneralizedForce`:
+    /// `τ = −stiffness (q − rest_length) − viscosity q̇` [N m or N].
+    Spring {
+        /// Stiffness [N m rad⁻¹ or N m⁻¹].
+        stiffness: f64,
+        /// Rest value of the coordinate [rad or m].
+        rest_length: f64,
+        /// Viscous damping [N m s rad⁻¹ or N s m⁻¹].
+        viscosity: f64,
+    },
 }
 
 /// Passive joint torque of one coordinate:
@@ -392,6 +504,9 @@ impl Default for Model {
             passive_torques: Vec::new(),
             path_polynomials: Vec::new(),
             unsupported: Vec::new(),
+            ligaments: Vec::new(),
+            couplers: Vec::new(),
+            coordinate_forces: Vec::new(),
         }
     }
 }

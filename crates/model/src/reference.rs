@@ -447,6 +447,7 @@ pub fn add_arm_actuators(model: &mut Model) -> usize {
             coordinate,
             optimal_force: ARM_OPTIMAL_FORCE,
             control_range: [-1.0, 1.0],
+            activation_time_constant: None,
         });
         n += 1;
     }

@@ -4,6 +4,7 @@ use stride_ad::Scalar;
 use stride_model::function::CompiledFunction;
 use stride_model::{BodyId, JointKind, Model};
 
+use crate::couplers::CompiledCoupler;
 use crate::error::MultibodyError;
 use crate::spatial::identity;
 use crate::spatial::{body_fixed_xyz, transpose_f, zero3, Mat3, Vec3};
@@ -158,6 +159,11 @@ pub struct Data<T: Scalar> {
     pub(crate) sphere_group: Vec<Option<usize>>,
     /// Unit outward plane normal of each contact sphere.
     pub(crate) sphere_normal: Vec<[f64; 3]>,
+    /// Coupled coordinates of the model (eliminated by substitution).
+    pub couplers: Vec<CompiledCoupler>,
+    /// Coordinates, speeds and accelerations with the dependent coordinates filled in
+    /// (used only when the model has couplers).
+    pub(crate) coupled: [Vec<T>; 3],
 }
 
 fn norm3(a: [f64; 3]) -> f64 {
@@ -319,6 +325,12 @@ impl<T: Scalar> Data<T> {
             groups,
             sphere_group,
             sphere_normal,
+            couplers: crate::couplers::compile(model)?,
+            coupled: [
+                vec![T::zero(); nc],
+                vec![T::zero(); nc],
+                vec![T::zero(); nc],
+            ],
         })
     }
 

@@ -8,15 +8,18 @@
 use stride_ad::Scalar;
 use stride_model::Model;
 
+use crate::couplers::reduce;
 use crate::data::Data;
 use crate::error::MultibodyError;
-use crate::kinematics::{check_len, inertia_times, kinematics_pass};
+use crate::kinematics::{check_len, inertia_times, run_kinematics};
 use crate::spatial::{add, cross, cst3, dot, mat_t_vec, mat_vec, mat_vec_f, scale, sub, Vec3};
 
 /// Generalised forces `tau` [N m or N] (one per model coordinate) that produce the
 /// accelerations `qdd` at state (`q`, `v`) under `model.gravity` and the external loads
 /// currently stored in `data` (`external_force`/`external_moment`, ground, about body
-/// origins). Runs forward kinematics itself (with accelerations).
+/// origins). Runs forward kinematics itself (with accelerations). A coupled coordinate's
+/// inputs are ignored and its force is carried by its independent coordinate (its own
+/// entry of `tau` is 0), see [`crate::couplers`].
 pub fn inverse_dynamics<T: Scalar>(
     model: &Model,
     data: &mut Data<T>,
@@ -31,7 +34,7 @@ pub fn inverse_dynamics<T: Scalar>(
     check_len("accelerations qdd", n, qdd.len())?;
     check_len("generalised forces tau", n, tau.len())?;
     check_len("workspace coordinates", n, data.n_coordinates)?;
-    kinematics_pass(data, q, v, Some(qdd));
+    run_kinematics(data, q, v, Some(qdd));
     backward_pass(model, data, tau);
     Ok(())
 }
@@ -62,7 +65,7 @@ pub fn accelerations<T: Scalar>(
     check_len("speeds v", n, v.len())?;
     check_len("accelerations qdd", n, qdd.len())?;
     check_len("workspace coordinates", n, data.n_coordinates)?;
-    kinematics_pass(data, q, v, Some(qdd));
+    run_kinematics(data, q, v, Some(qdd));
     Ok(())
 }
 
@@ -113,5 +116,8 @@ fn backward_pass<T: Scalar>(model: &Model, data: &mut Data<T>, tau: &mut [T]) {
             data.load_force[p] = add(data.load_force[p], f_c);
             data.load_moment[p] = add(data.load_moment[p], add(n_c, cross(sub(r_c, r_p), f_c)));
         }
+    }
+    if !data.couplers.is_empty() {
+        reduce(&data.couplers, &data.coupled[0], tau);
     }
 }

@@ -52,6 +52,15 @@ pub enum MultibodyError {
         /// What is wrong.
         reason: String,
     },
+    /// A coordinate coupler refers to missing coordinates, forms a chain or has an
+    /// invalid function.
+    #[error("coordinate coupler `{name}`: {reason}")]
+    Coupler {
+        /// Constraint name.
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A body name used for contact grouping does not exist.
     #[error("contact group `{group}`: no body named `{body}`")]
     UnknownBody {

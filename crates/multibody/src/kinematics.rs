@@ -9,6 +9,7 @@
 use stride_ad::Scalar;
 use stride_model::{BodyId, Model};
 
+use crate::couplers::couple;
 use crate::data::{AxisInfo, Data};
 use crate::error::MultibodyError;
 use crate::spatial::{
@@ -50,6 +51,24 @@ pub(crate) fn check_len(
             got,
         })
     }
+}
+
+/// [`kinematics_pass`] on the coupled state: with couplers in the model the dependent
+/// coordinates are first filled in from their independent ones (kept in `data.coupled`).
+pub(crate) fn run_kinematics<T: Scalar>(data: &mut Data<T>, q: &[T], v: &[T], qdd: Option<&[T]>) {
+    if data.couplers.is_empty() {
+        kinematics_pass(data, q, v, qdd);
+        return;
+    }
+    let [mut cq, mut cv, mut ca] = std::mem::take(&mut data.coupled);
+    cq.copy_from_slice(q);
+    cv.copy_from_slice(v);
+    if let Some(a) = qdd {
+        ca.copy_from_slice(a);
+    }
+    couple(&data.couplers, &mut cq, &mut cv, qdd.map(|_| &mut ca[..]));
+    kinematics_pass(data, &cq, &cv, qdd.map(|_| &ca[..]));
+    data.coupled = [cq, cv, ca];
 }
 
 /// Positions, orientations and velocities of all bodies (and accelerations when `qdd`
@@ -149,7 +168,8 @@ pub(crate) fn kinematics_pass<T: Scalar>(data: &mut Data<T>, q: &[T], v: &[T], q
 
 /// Forward kinematics: each body's rotation (body → ground), origin position [m], angular
 /// [rad s⁻¹] and origin linear [m s⁻¹] velocity in ground, from coordinates `q` [rad or m]
-/// and speeds `v` (one per model coordinate, locked ones included); stored in `data`.
+/// and speeds `v` (one per model coordinate, locked ones included; coupled ones follow
+/// their independent coordinate, see [`crate::couplers`]); stored in `data`.
 pub fn forward_kinematics<T: Scalar>(
     model: &Model,
     data: &mut Data<T>,
@@ -160,7 +180,7 @@ pub fn forward_kinematics<T: Scalar>(
     check_len("coordinates q", n, q.len())?;
     check_len("speeds v", n, v.len())?;
     check_len("workspace coordinates", n, data.n_coordinates)?;
-    kinematics_pass(data, q, v, None);
+    run_kinematics(data, q, v, None);
     Ok(())
 }
 

@@ -7,14 +7,18 @@
 //! - [`data`]: the workspace (compiled joint functions, per-body kinematics, loads);
 //! - [`kinematics`]: forward kinematics (OpenSim `CustomJoint` semantics), points, COM;
 //! - [`dynamics`]: recursive Newton–Euler inverse dynamics with external loads;
+//! - [`elements`]: force laws of ligaments, coordinate limit forces and generalised springs;
+//! - [`couplers`]: coupled coordinates eliminated by substitution;
 //! - [`contact`]: smooth Hunt–Crossley sphere–plane contact (FORMULATION 5.2);
 //! - [`skeleton`]: the per-node entry of the optimal control problem.
 
 #![warn(missing_docs)]
 
 pub mod contact;
+pub mod couplers;
 pub mod data;
 pub mod dynamics;
+pub mod elements;
 pub mod error;
 pub mod kinematics;
 pub mod skeleton;

@@ -1,5 +1,6 @@
-//! Forces: muscles with their paths, coordinate actuators, smooth sphere–half-space
-//! contacts; other force elements are reported as unsupported.
+//! Forces: muscles with their paths, coordinate actuators (plain and with activation
+//! dynamics), smooth sphere–half-space contacts, ligaments, coordinate limit forces and
+//! generalised springs. Any other force element is an error: it would change the dynamics.
 
 use super::functions::parse_function_in;
 use super::skeleton::Frames;
@@ -7,8 +8,8 @@ use super::xml::{child, child_text, last_component, mul, name_of, objects, rot_x
 use super::xml::{Ctx, El};
 use super::OsimError;
 use crate::model::{
-    ContactParameters, ContactSphere, CoordinateActuator, Model, Muscle, MuscleKind, PathPoint,
-    PathPointKind, UnsupportedElement,
+    ContactParameters, ContactSphere, CoordinateActuator, CoordinateForce, CoordinateForceLaw,
+    Ligament, Model, MotionType, Muscle, MuscleKind, PathPoint, PathPointKind, UnsupportedElement,
 };
 use std::collections::HashMap;
 
@@ -48,49 +49,40 @@ pub(crate) fn read_forces<'a, 'i>(
             report(ctx, model, f, "force element is disabled in the file");
             continue;
         }
+        if let Some(kind) = muscle_kind(tag(f)) {
+            let m = muscle(ctx, f, kind, v4, frames, model)?;
+            model.muscles.push(m);
+            continue;
+        }
         match tag(f) {
-            "Thelen2003Muscle" => {
-                let m = muscle(ctx, f, MuscleKind::Thelen2003, v4, frames, model)?;
-                model.muscles.push(m);
-            }
-            "Millard2012EquilibriumMuscle" => {
-                let m = muscle(
-                    ctx,
-                    f,
-                    MuscleKind::Millard2012Equilibrium,
-                    v4,
-                    frames,
-                    model,
-                )?;
-                model.muscles.push(m);
-            }
-            "CoordinateActuator" => {
-                let cel = ctx.req(f, "coordinate")?;
-                let cname = last_component(text(cel));
-                let coordinate = model
-                    .coordinate_index(cname)
-                    .ok_or_else(|| ctx.err(cel, format!("unknown coordinate `{cname}`")))?;
-                model.actuators.push(CoordinateActuator {
-                    name: name_of(f).to_string(),
-                    coordinate,
-                    optimal_force: ctx.opt_f64(f, "optimal_force", 1.0)?,
-                    control_range: [
-                        ctx.opt_f64(f, "min_control", f64::NEG_INFINITY)?,
-                        ctx.opt_f64(f, "max_control", f64::INFINITY)?,
-                    ],
-                });
+            "CoordinateActuator" | "ActivationCoordinateActuator" => {
+                let a = actuator(ctx, f, model)?;
+                model.actuators.push(a);
             }
             "SmoothSphereHalfSpaceForce" => {
                 let c = contact(ctx, f, v4, frames, &geometry, &mut used_geometry)?;
                 model.contacts.push(c);
             }
+            "Ligament" => {
+                let l = ligament(ctx, f, v4, frames, model)?;
+                model.ligaments.push(l);
+            }
+            "CoordinateLimitForce" | "SpringGeneralizedForce" => {
+                let c = coordinate_force(ctx, f, model)?;
+                model.coordinate_forces.push(c);
+            }
             other => {
-                report(
-                    ctx,
-                    model,
+                return Err(ctx.err(
                     f,
-                    format!("force type `{other}` is not supported by the importer"),
-                );
+                    format!(
+                        "force `{}` of type `{other}` is not supported: it would change the \
+                         dynamics (supported: muscles, CoordinateActuator, \
+                         ActivationCoordinateActuator, SmoothSphereHalfSpaceForce, Ligament, \
+                         CoordinateLimitForce, SpringGeneralizedForce; disable it with \
+                         appliesForce false to import the rest)",
+                        name_of(f)
+                    ),
+                ));
             }
         }
     }
@@ -105,6 +97,134 @@ pub(crate) fn read_forces<'a, 'i>(
         }
     }
     Ok(())
+}
+
+/// The muscle class of a force tag, if it is a muscle stride reads (its parameters map
+/// onto the De Groote 2016 model, PREDSIM.md §3.4).
+fn muscle_kind(t: &str) -> Option<MuscleKind> {
+    Some(match t {
+        "Thelen2003Muscle" => MuscleKind::Thelen2003,
+        "Millard2012EquilibriumMuscle" => MuscleKind::Millard2012Equilibrium,
+        "Millard2012AccelerationMuscle" => MuscleKind::Millard2012Acceleration,
+        "DeGrooteFregly2016Muscle" => MuscleKind::DeGrooteFregly2016,
+        "RigidTendonMuscle" => MuscleKind::RigidTendon,
+        _ => return None,
+    })
+}
+
+/// A `CoordinateActuator` or `ActivationCoordinateActuator`.
+fn actuator(ctx: &Ctx, f: El, model: &Model) -> Result<CoordinateActuator, OsimError> {
+    let coordinate = coordinate_ref(ctx, ctx.req(f, "coordinate")?, model)?;
+    let activation_time_constant = if tag(f) == "ActivationCoordinateActuator" {
+        let tau = ctx.opt_f64(f, "activation_time_constant", 0.01)?;
+        if !(tau > 0.0 && tau.is_finite()) {
+            let at = child(f, "activation_time_constant").unwrap_or(f);
+            return Err(ctx.err(at, format!("must be positive, found {tau}")));
+        }
+        Some(tau)
+    } else {
+        None
+    };
+    Ok(CoordinateActuator {
+        name: name_of(f).to_string(),
+        coordinate,
+        optimal_force: ctx.opt_f64(f, "optimal_force", 1.0)?,
+        control_range: [
+            ctx.opt_f64(f, "min_control", f64::NEG_INFINITY)?,
+            ctx.opt_f64(f, "max_control", f64::INFINITY)?,
+        ],
+        activation_time_constant,
+    })
+}
+
+/// One `Ligament`: its parameters, force–length curve and path points.
+fn ligament(
+    ctx: &Ctx,
+    f: El,
+    v4: bool,
+    frames: &Frames,
+    model: &mut Model,
+) -> Result<Ligament, OsimError> {
+    let gp = ctx.req(f, "GeometryPath")?;
+    let pps = ctx.req(gp, "PathPointSet")?;
+    let mut path = Vec::new();
+    for p in objects(pps) {
+        path.push(path_point(ctx, p, v4, frames, model)?);
+    }
+    if path.len() < 2 {
+        return Err(ctx.err(pps, "a ligament path needs at least 2 points"));
+    }
+    if let Some(pw) = child(gp, "PathWrapSet") {
+        for w in objects(pw) {
+            let obj = child_text(w, "wrap_object").to_string();
+            report(
+                ctx,
+                model,
+                w,
+                format!("path wrapping (over `{obj}`) is ignored: the path is straight-line"),
+            );
+        }
+    }
+    let curve = super::xml::elements(f)
+        .find(|e| name_of(*e) == "force_length_curve" || tag(*e) == "force_length_curve")
+        .ok_or_else(|| ctx.missing(f, "force_length_curve"))?;
+    let force_length = if tag(curve) == "force_length_curve" {
+        parse_function_in(ctx, curve)?
+    } else {
+        super::functions::parse_function(ctx, curve)?
+    };
+    let positive = |t: &str| -> Result<f64, OsimError> {
+        let v = ctx.req_f64(f, t)?;
+        if v > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(ctx.err(ctx.req(f, t)?, format!("must be positive, found {v}")))
+        }
+    };
+    Ok(Ligament {
+        name: name_of(f).to_string(),
+        resting_length: positive("resting_length")?,
+        pcsa_force: positive("pcsa_force")?,
+        force_length,
+        path,
+    })
+}
+
+/// A `CoordinateLimitForce` or `SpringGeneralizedForce`.
+fn coordinate_force(ctx: &Ctx, f: El, model: &Model) -> Result<CoordinateForce, OsimError> {
+    let coordinate = coordinate_ref(ctx, ctx.req(f, "coordinate")?, model)?;
+    let law = if tag(f) == "SpringGeneralizedForce" {
+        CoordinateForceLaw::Spring {
+            stiffness: ctx.opt_f64(f, "stiffness", 0.0)?,
+            rest_length: ctx.opt_f64(f, "rest_length", 0.0)?,
+            viscosity: ctx.opt_f64(f, "viscosity", 0.0)?,
+        }
+    } else {
+        let transition = ctx.req_f64(f, "transition")?;
+        let upper_stiffness = ctx.req_f64(f, "upper_stiffness")?;
+        let lower_stiffness = ctx.req_f64(f, "lower_stiffness")?;
+        if !(transition > 0.0 && upper_stiffness > 0.0 && lower_stiffness > 0.0) {
+            return Err(ctx.err(
+                f,
+                "CoordinateLimitForce needs positive transition, upper_stiffness and \
+                 lower_stiffness",
+            ));
+        }
+        CoordinateForceLaw::CoordinateLimit {
+            upper_stiffness,
+            upper_limit: ctx.req_f64(f, "upper_limit")?,
+            lower_stiffness,
+            lower_limit: ctx.req_f64(f, "lower_limit")?,
+            damping: ctx.opt_f64(f, "damping", 0.0)?,
+            transition,
+            rotational: model.coordinates[coordinate].motion_type != MotionType::Translational,
+        }
+    };
+    Ok(CoordinateForce {
+        name: name_of(f).to_string(),
+        coordinate,
+        law,
+    })
 }
 
 /// One Hill-type muscle.

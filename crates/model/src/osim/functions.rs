@@ -1,5 +1,6 @@
 //! OpenSim function elements (`LinearFunction`, `Constant`, `SimmSpline`,
-//! `PolynomialFunction`, `MultiplierFunction`) → [`Function`].
+//! `NaturalCubicSpline`, `PiecewiseLinearFunction`, `PolynomialFunction`,
+//! `MultiplierFunction`) → [`Function`].
 
 use super::xml::{elements, tag, Ctx, El};
 use super::OsimError;
@@ -36,24 +37,15 @@ pub(crate) fn parse_function(ctx: &Ctx, f: El) -> Result<Function, OsimError> {
                 intercept: v[1],
             })
         }
+        // OpenSim 4 registers `NaturalCubicSpline` as another name of `SimmSpline` (a
+        // file's NaturalCubicSpline evaluates as a SimmSpline there).
         "SimmSpline" | "NaturalCubicSpline" => {
-            let xn = ctx.req(f, "x")?;
-            let x = ctx.vec_of(xn)?;
-            let y = ctx.vec_of(ctx.req(f, "y")?)?;
-            if x.len() != y.len() || x.is_empty() {
-                return Err(ctx.err(
-                    f,
-                    format!(
-                        "spline needs as many y as x values (and at least one): {} x, {} y",
-                        x.len(),
-                        y.len()
-                    ),
-                ));
-            }
-            if x.windows(2).any(|w| w[1] <= w[0]) {
-                return Err(ctx.err(xn, "spline knots x must be strictly increasing"));
-            }
+            let (x, y) = knots(ctx, f)?;
             Ok(Function::SimmSpline { x, y })
+        }
+        "PiecewiseLinearFunction" => {
+            let (x, y) = knots(ctx, f)?;
+            Ok(Function::PiecewiseLinear { x, y })
         }
         "PolynomialFunction" => {
             let c = ctx.vec_of(ctx.req(f, "coefficients")?)?;
@@ -76,11 +68,35 @@ pub(crate) fn parse_function(ctx: &Ctx, f: El) -> Result<Function, OsimError> {
                 f,
                 format!(
                     "unsupported function type `{other}` (supported: Constant, LinearFunction, \
-                     SimmSpline, PolynomialFunction, MultiplierFunction)"
+                     SimmSpline, NaturalCubicSpline, PiecewiseLinearFunction, \
+                     PolynomialFunction, MultiplierFunction)"
                 ),
             ))
         }
     }
+}
+
+/// Knots `x`, `y` of a spline or piecewise-linear element: equal counts, at least two,
+/// `x` strictly increasing.
+fn knots(ctx: &Ctx, f: El) -> Result<(Vec<f64>, Vec<f64>), OsimError> {
+    let xn = ctx.req(f, "x")?;
+    let x = ctx.vec_of(xn)?;
+    let y = ctx.vec_of(ctx.req(f, "y")?)?;
+    if x.len() != y.len() || x.len() < 2 {
+        return Err(ctx.err(
+            f,
+            format!(
+                "`{}` needs as many y as x values (and at least two): {} x, {} y",
+                tag(f),
+                x.len(),
+                y.len()
+            ),
+        ));
+    }
+    if x.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(ctx.err(xn, "knots x must be strictly increasing"));
+    }
+    Ok((x, y))
 }
 
 /// Whether an element tag names an OpenSim function type.

@@ -1,11 +1,17 @@
 //! OpenSim .osim import (formats 30000 and 40000).
 //!
-//! [`load_osim`] reads a file, [`parse_osim`] a string. Bodies, joints (`CustomJoint`,
-//! `PinJoint`, `SliderJoint`, `WeldJoint`), coordinates, Hill muscles
-//! (`Thelen2003Muscle`, `Millard2012EquilibriumMuscle`) with fixed, conditional and moving
-//! path points, `CoordinateActuator`s and `SmoothSphereHalfSpaceForce` contacts are
-//! imported. Other elements carrying mechanics are listed in [`Model::unsupported`];
-//! visual and bookkeeping content is counted in one summary entry there.
+//! [`load_osim`] reads a file, [`parse_osim`] a string. Imported: bodies; joints
+//! (`CustomJoint` with any of the functions of [`crate::Function`], `PinJoint`,
+//! `SliderJoint`, `PlanarJoint`, `UniversalJoint`, `GimbalJoint`, `BallJoint`,
+//! `FreeJoint`, `WeldJoint`); coordinates; `CoordinateCouplerConstraint`s; muscles of the
+//! Thelen 2003, Millard 2012, De Groote–Fregly 2016 and rigid-tendon classes (their
+//! common Hill parameters) with fixed, conditional and moving path points;
+//! `CoordinateActuator`s and `ActivationCoordinateActuator`s;
+//! `SmoothSphereHalfSpaceForce` contacts; `Ligament`s; `CoordinateLimitForce`s and
+//! `SpringGeneralizedForce`s. Any other joint, constraint or force element is an error
+//! naming it and its line (it would change the dynamics); path wrapping and model
+//! components are listed in [`Model::unsupported`]; visual and bookkeeping content is
+//! counted in one summary entry there.
 
 mod forces;
 mod functions;
@@ -113,9 +119,11 @@ pub fn parse_osim(text_in: &str, source_name: &str) -> Result<Model, OsimError> 
         name: model_el.attribute("name").unwrap_or("").to_string(),
         ..Default::default()
     };
-    if let Some(g) = child(model_el, "gravity") {
-        model.gravity = ctx.arr_of::<3>(g)?;
-    }
+    // OpenSim's default when the file gives none: standard gravity along −y.
+    model.gravity = match child(model_el, "gravity") {
+        Some(g) => ctx.arr_of::<3>(g)?,
+        None => [0.0, -9.80665, 0.0],
+    };
     if let Some(u) = child(model_el, "length_units") {
         let t = text(u);
         if !t.is_empty() && t != "meters" && t != "m" {
@@ -126,6 +134,9 @@ pub fn parse_osim(text_in: &str, source_name: &str) -> Result<Model, OsimError> 
         }
     }
     let frames = skeleton::read_skeleton(&ctx, model_el, v4, &mut model)?;
+    if let Some(cs) = child(model_el, "ConstraintSet") {
+        skeleton::read_constraints(&ctx, cs, v4, &mut model)?;
+    }
     forces::read_forces(&ctx, model_el, v4, &frames, &mut model)?;
     report_other_content(&ctx, model_el, &mut model);
     Ok(model)
@@ -138,8 +149,8 @@ fn report_other_content(ctx: &Ctx, model_el: xml::El, model: &mut Model) {
     for c in elements(model_el) {
         match tag(c) {
             "credits" | "publications" | "length_units" | "force_units" | "gravity" | "BodySet"
-            | "JointSet" | "ForceSet" | "ContactGeometrySet" | "Ground" => {}
-            "ConstraintSet" | "ComponentSet" => {
+            | "JointSet" | "ForceSet" | "ContactGeometrySet" | "Ground" | "ConstraintSet" => {}
+            "ComponentSet" => {
                 for o in objects(c) {
                     forces::report(ctx, model, o, format!("{} are not supported", tag(c)));
                 }

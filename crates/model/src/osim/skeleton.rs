@@ -1,14 +1,15 @@
 //! Bodies, joints and coordinates of OpenSim 3.x (joints inside bodies) and 4.x
 //! (`JointSet` with offset frames) models.
 
+use super::forces::report;
 use super::functions::{is_function_tag, parse_function, parse_function_in};
 use super::xml::{
     child, child_text, elements, last_component, mul, name_of, objects, rot_xyz, tag, text, Ctx, El,
 };
 use super::OsimError;
 use crate::model::{
-    Body, BodyId, Coordinate, Function, Joint, JointKind, Model, MotionType, Offset, TransformAxis,
-    UnsupportedElement,
+    Body, BodyId, Coordinate, CoordinateCoupler, Function, Joint, JointKind, Model, MotionType,
+    Offset, TransformAxis, UnsupportedElement,
 };
 use std::collections::HashMap;
 
@@ -327,7 +328,7 @@ pub(crate) fn read_skeleton<'a, 'i>(
                 _ => [f64::NEG_INFINITY, f64::INFINITY],
             };
             let motion_type = if v4 {
-                infer_motion_type(r.el, name)
+                infer_motion_type(r.el, name, r.coords.iter().position(|e| e == c))
             } else {
                 match child_text(*c, "motion_type") {
                     "" | "rotational" => MotionType::Rotational,
@@ -369,10 +370,15 @@ pub(crate) fn read_skeleton<'a, 'i>(
     Ok(frames)
 }
 
-/// 4.x: a coordinate is translational when a translation axis of its joint uses it.
-fn infer_motion_type(joint: El, coord: &str) -> MotionType {
+/// 4.x: a coordinate is translational when a translation axis of its joint uses it (or,
+/// for the fixed-axis joints, when its place `index` among the joint's coordinates is a
+/// translation).
+fn infer_motion_type(joint: El, coord: &str, index: Option<usize>) -> MotionType {
+    let k = index.unwrap_or(0);
     match tag(joint) {
         "SliderJoint" => return MotionType::Translational,
+        "PlanarJoint" if k >= 1 => return MotionType::Translational,
+        "FreeJoint" if k >= 3 => return MotionType::Translational,
         "CustomJoint" => {}
         _ => return MotionType::Rotational,
     }
@@ -402,97 +408,129 @@ fn unit_axes() -> [[f64; 3]; 3] {
     [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
 }
 
-/// Kinematics of one joint.
+/// A joint with fixed axes: the joint's coordinates drive `rotations` (axes in F, applied
+/// as successive body-fixed rotations) and then `translations` (along F axes) in order.
+fn fixed_axes(
+    ctx: &Ctx,
+    r: &RawJoint,
+    coord_index: &HashMap<String, usize>,
+    rotations: &[usize],
+    translations: &[usize],
+) -> Result<JointKind, OsimError> {
+    let e = unit_axes();
+    let n = rotations.len() + translations.len();
+    if r.coords.len() != n {
+        return Err(ctx.err(
+            r.el,
+            format!(
+                "a {} needs exactly {n} coordinate(s), found {}",
+                tag(r.el),
+                r.coords.len()
+            ),
+        ));
+    }
+    let mut coords = r.coords.iter().map(|c| coord_index[name_of(*c)]);
+    let driven = |axis: usize, c: Option<usize>| TransformAxis {
+        axis: e[axis],
+        coordinate: c,
+        function: Function::Linear {
+            slope: 1.0,
+            intercept: 0.0,
+        },
+    };
+    // Constant rotation slots take the unit axes not driven, so the three stay distinct.
+    let mut rot_axes: Vec<usize> = rotations.to_vec();
+    rot_axes.extend((0..3).filter(|a| !rotations.contains(a)));
+    let rot: Vec<TransformAxis> = rot_axes
+        .iter()
+        .enumerate()
+        .map(|(k, &a)| {
+            if k < rotations.len() {
+                driven(a, coords.next())
+            } else {
+                const_axis(e[a])
+            }
+        })
+        .collect();
+    let [r1, r2, r3] = <[TransformAxis; 3]>::try_from(rot).map_err(|_| ctx.err(r.el, "axes"))?;
+    let mut trans = [const_axis(e[0]), const_axis(e[1]), const_axis(e[2])];
+    for &a in translations {
+        trans[a] = driven(a, coords.next());
+    }
+    let [t1, t2, t3] = trans;
+    Ok(JointKind::Custom {
+        rotations: [r1, r2, r3],
+        translations: [t1, t2, t3],
+    })
+}
+
+/// Kinematics of one joint. The fixed-axis joints follow Simbody's mobilisers: `PinJoint`
+/// rotates about F's z axis; `SliderJoint` translates along F's x; `PlanarJoint`
+/// (coordinates rz, tx, ty) rotates about z and translates along F's x and y;
+/// `UniversalJoint` (rx, ry) rotates about x and then the new y; `GimbalJoint` and
+/// `BallJoint` (rx, ry, rz) by body-fixed x–y–z angles; `FreeJoint` (rx, ry, rz, tx, ty,
+/// tz) adds translations along F's axes. For `BallJoint` and `FreeJoint` stride's speeds
+/// are the angle rates, where OpenSim's are the angular velocity.
 fn joint_kind(
     ctx: &Ctx,
     r: &RawJoint,
     coord_index: &HashMap<String, usize>,
     unsupported: &mut Vec<UnsupportedElement>,
 ) -> Result<JointKind, OsimError> {
-    let e = unit_axes();
-    let single_coord = |what: &str| -> Result<usize, OsimError> {
-        if r.coords.len() != 1 {
-            return Err(ctx.err(
-                r.el,
-                format!(
-                    "a {what} needs exactly one coordinate, found {}",
-                    r.coords.len()
-                ),
-            ));
-        }
-        Ok(coord_index[name_of(r.coords[0])])
-    };
-    let linear = Function::Linear {
-        slope: 1.0,
-        intercept: 0.0,
-    };
+    let axes = |rot: &[usize], trans: &[usize]| fixed_axes(ctx, r, coord_index, rot, trans);
     match tag(r.el) {
         "WeldJoint" => Ok(JointKind::Weld),
-        "PinJoint" => {
-            let c = single_coord("PinJoint")?;
-            Ok(JointKind::Custom {
-                rotations: [
-                    TransformAxis {
-                        axis: e[2],
-                        coordinate: Some(c),
-                        function: linear,
-                    },
-                    const_axis(e[0]),
-                    const_axis(e[1]),
-                ],
-                translations: [const_axis(e[0]), const_axis(e[1]), const_axis(e[2])],
-            })
-        }
-        "SliderJoint" => {
-            let c = single_coord("SliderJoint")?;
-            Ok(JointKind::Custom {
-                rotations: [const_axis(e[0]), const_axis(e[1]), const_axis(e[2])],
-                translations: [
-                    TransformAxis {
-                        axis: e[0],
-                        coordinate: Some(c),
-                        function: linear,
-                    },
-                    const_axis(e[1]),
-                    const_axis(e[2]),
-                ],
-            })
-        }
-        "CustomJoint" => {
-            let st = ctx.req(r.el, "SpatialTransform")?;
-            let names = [
-                "rotation1",
-                "rotation2",
-                "rotation3",
-                "translation1",
-                "translation2",
-                "translation3",
-            ];
-            let mut axes: Vec<TransformAxis> = Vec::with_capacity(6);
-            for (k, n) in names.iter().enumerate() {
-                let ax = elements(st).find(|a| name_of(*a) == *n);
-                let Some(ax) = ax else {
-                    axes.push(const_axis(e[k % 3]));
-                    continue;
-                };
-                axes.push(transform_axis(ctx, ax, coord_index, unsupported)?);
-            }
-            let Ok([r1, r2, r3, t1, t2, t3]) = <[TransformAxis; 6]>::try_from(axes) else {
-                return Err(ctx.err(st, "expected six transform axes"));
-            };
-            Ok(JointKind::Custom {
-                rotations: [r1, r2, r3],
-                translations: [t1, t2, t3],
-            })
-        }
+        "PinJoint" => axes(&[2], &[]),
+        "SliderJoint" => axes(&[], &[0]),
+        "PlanarJoint" => axes(&[2], &[0, 1]),
+        "UniversalJoint" => axes(&[0, 1], &[]),
+        "GimbalJoint" | "BallJoint" => axes(&[0, 1, 2], &[]),
+        "FreeJoint" => axes(&[0, 1, 2], &[0, 1, 2]),
+        "CustomJoint" => custom_joint(ctx, r, coord_index, unsupported),
         other => Err(ctx.err(
             r.el,
             format!(
                 "unsupported joint type `{other}` (supported: CustomJoint, PinJoint, \
-                 SliderJoint, WeldJoint)"
+                 SliderJoint, PlanarJoint, UniversalJoint, GimbalJoint, BallJoint, \
+                 FreeJoint, WeldJoint)"
             ),
         )),
     }
+}
+
+/// A `CustomJoint`: its `SpatialTransform` of three rotation and three translation axes.
+fn custom_joint(
+    ctx: &Ctx,
+    r: &RawJoint,
+    coord_index: &HashMap<String, usize>,
+    unsupported: &mut Vec<UnsupportedElement>,
+) -> Result<JointKind, OsimError> {
+    let e = unit_axes();
+    let st = ctx.req(r.el, "SpatialTransform")?;
+    let names = [
+        "rotation1",
+        "rotation2",
+        "rotation3",
+        "translation1",
+        "translation2",
+        "translation3",
+    ];
+    let mut axes: Vec<TransformAxis> = Vec::with_capacity(6);
+    for (k, n) in names.iter().enumerate() {
+        let ax = elements(st).find(|a| name_of(*a) == *n);
+        let Some(ax) = ax else {
+            axes.push(const_axis(e[k % 3]));
+            continue;
+        };
+        axes.push(transform_axis(ctx, ax, coord_index, unsupported)?);
+    }
+    let Ok([r1, r2, r3, t1, t2, t3]) = <[TransformAxis; 6]>::try_from(axes) else {
+        return Err(ctx.err(st, "expected six transform axes"));
+    };
+    Ok(JointKind::Custom {
+        rotations: [r1, r2, r3],
+        translations: [t1, t2, t3],
+    })
 }
 
 /// One `TransformAxis`.
@@ -550,6 +588,90 @@ fn transform_axis(
     Ok(TransformAxis {
         axis,
         coordinate,
+        function,
+    })
+}
+
+/// Read the `ConstraintSet`: `CoordinateCouplerConstraint`s become [`CoordinateCoupler`]s;
+/// disabled constraints are reported; any other enforced constraint is an error.
+pub(crate) fn read_constraints(
+    ctx: &Ctx,
+    set: El,
+    v4: bool,
+    model: &mut Model,
+) -> Result<(), OsimError> {
+    for c in objects(set) {
+        let enforced = if v4 {
+            ctx.opt_bool(c, "isEnforced", true)?
+        } else {
+            !ctx.opt_bool(c, "isDisabled", false)?
+        };
+        if !enforced {
+            report(ctx, model, c, "constraint is disabled in the file");
+            continue;
+        }
+        if tag(c) != "CoordinateCouplerConstraint" {
+            return Err(ctx.err(
+                c,
+                format!(
+                    "constraint `{}` of type `{}` is not supported: it would change the \
+                     dynamics (supported: CoordinateCouplerConstraint)",
+                    name_of(c),
+                    tag(c)
+                ),
+            ));
+        }
+        let coupler = coupler(ctx, c, model)?;
+        model.coordinates[coupler.dependent].motion_type = MotionType::Coupled;
+        model.couplers.push(coupler);
+    }
+    Ok(())
+}
+
+/// One `CoordinateCouplerConstraint` (one independent coordinate).
+fn coupler(ctx: &Ctx, c: El, model: &Model) -> Result<CoordinateCoupler, OsimError> {
+    let coord = |t: &str| -> Result<usize, OsimError> {
+        let el = ctx.req(c, t)?;
+        let names: Vec<&str> = text(el).split_whitespace().collect();
+        match names.as_slice() {
+            [one] => model.coordinate_index(one).ok_or_else(|| {
+                ctx.err(
+                    el,
+                    format!(
+                        "coordinate coupler `{}`: unknown coordinate `{one}`",
+                        name_of(c)
+                    ),
+                )
+            }),
+            _ => Err(ctx.err(
+                el,
+                format!(
+                    "coordinate coupler `{}`: expected one coordinate name, found `{}`",
+                    name_of(c),
+                    text(el)
+                ),
+            )),
+        }
+    };
+    let independent = coord("independent_coordinate_names")?;
+    let dependent = coord("dependent_coordinate_name")?;
+    if independent == dependent {
+        return Err(ctx.err(c, "a coordinate cannot be coupled to itself"));
+    }
+    let f = parse_function_in(ctx, ctx.req(c, "coupled_coordinates_function")?)?;
+    let scale = ctx.opt_f64(c, "scale_factor", 1.0)?;
+    let function = if scale == 1.0 {
+        f
+    } else {
+        Function::Multiplier {
+            scale,
+            function: Box::new(f),
+        }
+    };
+    Ok(CoordinateCoupler {
+        name: name_of(c).to_string(),
+        dependent,
+        independent,
         function,
     })
 }

@@ -102,7 +102,7 @@ const V3: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
         </Thelen2003Muscle>
         <CoordinateActuator name="act"><coordinate>hip_flex</coordinate><optimal_force>50</optimal_force>
           <min_control>-1</min_control><max_control>1</max_control></CoordinateActuator>
-        <PointActuator name="pa"><body>thigh</body></PointActuator>
+        <PointActuator name="pa"><isDisabled>true</isDisabled><body>thigh</body></PointActuator>
       </objects>
     </ForceSet>
     <MarkerSet><objects><Marker name="a"/><Marker name="b"/></objects></MarkerSet>
@@ -158,7 +158,7 @@ fn tiny_v3_model() {
     assert_eq!(mu.path[2].location, [0.0, -0.1, 0.0]);
     assert_eq!(m.actuators.len(), 1);
     assert_eq!(m.actuators[0].control_range, [-1.0, 1.0]);
-    // PointActuator and PathWrap reported; markers counted in the summary.
+    // The disabled PointActuator and PathWrap reported; markers counted in the summary.
     let kinds: Vec<&str> = m.unsupported.iter().map(|u| u.element.as_str()).collect();
     assert!(kinds.contains(&"PointActuator"), "{kinds:?}");
     assert!(kinds.contains(&"PathWrap"), "{kinds:?}");
@@ -178,6 +178,16 @@ fn tiny_v3_model() {
         "Model[name=tiny]/ForceSet/objects/PointActuator[name=pa]"
     );
     assert!(pa.line > 80);
+    assert!(pa.reason.contains("disabled"), "{}", pa.reason);
+}
+
+#[test]
+fn enabled_unsupported_force_is_an_error_naming_it() {
+    let text = V3.replace("<isDisabled>true</isDisabled>", "");
+    let e = err_of(&text);
+    let line = line_of(&text, "<PointActuator");
+    assert!(e.starts_with(&format!("bad.osim:{line}:")), "{e}");
+    assert!(e.contains("`pa`") && e.contains("PointActuator"), "{e}");
 }
 
 fn err_of(text: &str) -> String {
