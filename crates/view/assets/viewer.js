@@ -442,6 +442,7 @@
       if (!p.base || p.base.w !== p.canvas.clientWidth) drawBase(p);
       var g = p.canvas.getContext('2d');
       g.setTransform(1, 0, 0, 1, 0, 0);
+      g.clearRect(0, 0, p.canvas.width, p.canvas.height);
       g.drawImage(p.base.canvas, 0, 0);
       g.scale(p.base.dpr, p.base.dpr);
       var x = p.base.X(phase);

@@ -185,18 +185,19 @@ fn curves(model: &Model, f: &Frames) -> Vec<Curve> {
 }
 
 /// The numeric outcome measures of a `summary.json` (its `outcomes` object, numbers at
-/// its top level), with the imposed speed first.
+/// its top level), with the imposed speed of its settings when they do not hold it.
 fn outcomes(summary: &serde_json::Value) -> Vec<(String, f64)> {
     let mut out = Vec::new();
-    if let Some(v) = summary.pointer("/settings/speed").and_then(|v| v.as_f64()) {
-        out.push(("speed".to_string(), sig4(v)));
-    }
     if let Some(o) = summary.get("outcomes").and_then(|o| o.as_object()) {
         for (k, v) in o {
             if let Some(x) = v.as_f64() {
                 out.push((k.clone(), sig4(x)));
             }
         }
+    }
+    let speed = summary.pointer("/settings/speed").and_then(|v| v.as_f64());
+    if let (Some(v), false) = (speed, out.iter().any(|(k, _)| k == "speed")) {
+        out.insert(0, ("speed".to_string(), sig4(v)));
     }
     out
 }

@@ -268,3 +268,31 @@ fn a_motion_without_a_model_coordinate_is_an_error_naming_it() {
         "{empty}"
     );
 }
+
+#[test]
+fn a_study_page_holds_every_case_with_a_motion_and_the_study_figures() {
+    let model = stride_model::default_model::default_model();
+    let root = std::env::temp_dir().join(format!("stride-view-study-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(root.join("cases/failed")).unwrap();
+    std::fs::write(root.join("study.toml"), "").unwrap();
+    std::fs::write(root.join("figure_conditions.svg"), "<svg/>").unwrap();
+    for name in ["b_case", "a_case"] {
+        let dir = synthetic_folder(&model, name);
+        std::fs::rename(&dir, root.join("cases").join(name)).unwrap();
+    }
+    assert!(stride_view::folder::is_study_folder(&root));
+    let html = stride_view::study_page(&model, &root, &ViewOptions::default()).unwrap();
+    cleanup(&root);
+    let data = page_data(&html);
+    let names: Vec<&str> = data["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["a_case", "b_case"]);
+    let frames = data["cases"][0]["time"].as_array().unwrap().len();
+    assert_eq!(frames, stride_view::page::STUDY_FRAMES);
+    assert_eq!(data["figures"][0]["name"], "figure_conditions");
+}
