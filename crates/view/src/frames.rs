@@ -123,18 +123,24 @@ fn checked_time(s: &Storage, path: &std::path::Path) -> Result<Vec<f64>, ViewErr
             format!("{} rows: need at least 2", t.len()),
         ));
     }
-    if let Some(i) = (1..t.len()).find(|&i| !(t[i] >= t[i - 1])) {
+    if let Some(i) = t.iter().position(|x| !x.is_finite()) {
+        return Err(ViewError::content(
+            path,
+            format!("time is not a finite number at data row {}", i + 1),
+        ));
+    }
+    if let Some(i) = (1..t.len()).find(|&i| t[i] < t[i - 1]) {
         return Err(ViewError::content(
             path,
             format!(
-                "time decreases or is not a number at data row {} ({} after {})",
+                "time decreases at data row {} ({} after {})",
                 i + 1,
                 t[i],
                 t[i - 1]
             ),
         ));
     }
-    if !(t[t.len() - 1] > t[0]) {
+    if t[t.len() - 1] <= t[0] {
         return Err(ViewError::content(path, "time does not advance"));
     }
     Ok(t)
