@@ -6,6 +6,7 @@ mod fit_cmd;
 mod model_cmd;
 mod predict_cmd;
 mod study_cmd;
+mod view_cmd;
 
 use clap::{Parser, Subcommand};
 
@@ -41,6 +42,8 @@ enum Command {
     /// Manage the experimental data shipped with stride.
     #[command(subcommand)]
     Data(data_cmd::DataCommand),
+    /// Write a self-contained HTML page that animates a result or study folder in 3D.
+    View(view_cmd::ViewArgs),
     /// Print benchmark tables (markdown): solver, derivatives, prediction.
     #[command(subcommand)]
     Bench(bench_cmd::BenchCommand),
@@ -59,6 +62,7 @@ fn main() {
         Command::Rewrite(args) => predict_cmd::rewrite(args),
         Command::Study(args) => study_cmd::run(args),
         Command::Report(args) => study_cmd::report(args),
+        Command::View(args) => view_cmd::run(args),
         Command::Bench(cmd) => bench_cmd::run(cmd),
     };
     if let Err(e) = result {

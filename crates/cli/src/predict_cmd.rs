@@ -61,6 +61,9 @@ pub struct PredictArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+    /// Do not write the viewer page (`view.html`, see `stride view`).
+    #[arg(long)]
+    pub no_view: bool,
 }
 
 /// Solver section of a study file.
@@ -300,6 +303,9 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
     }
     let kept = predict::select(&solved);
     let summary = predict::write_results(&problem, &solved, kept, solver.name(), &options, &out)?;
+    if !args.no_view && kept.is_some() {
+        crate::view_cmd::write_default(&out, &model)?;
+    }
     for g in &summary.guesses {
         println!(
             "{:<22} {:<14} iterations {:>5}  objective {:>12.6}  violation {:.1e}  time {:.1} s (evaluations {:.1} s)",

@@ -48,6 +48,9 @@ pub struct StudyArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+    /// Do not write the viewer page (`view.html`, see `stride view`).
+    #[arg(long)]
+    pub no_view: bool,
 }
 
 /// Arguments of `stride report`.
@@ -154,6 +157,9 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         out.join("report.json").display()
     );
     print_series(&report);
+    if !args.no_view && report.converged > 0 {
+        crate::view_cmd::write_default(&out, &runner.model)?;
+    }
     if summary.failed > 0 {
         // the study ran to the end and its report is written, but not every case converged:
         // exit 2 (as `stride predict` does for an unconverged solve) so scripts can tell

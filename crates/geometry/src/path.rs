@@ -104,11 +104,21 @@ impl MusclePaths {
         self.paths.is_empty()
     }
 
-    /// Muscle–tendon length [m] of muscle `m` at coordinates `q` whose body poses are
-    /// `poses` (computed by [`Kinematics::forward`] for the same `q`).
-    pub fn length<T: Scalar>(&self, m: usize, q: &[T], poses: &BodyPoses<T>) -> T {
-        let mut total = T::zero();
-        let mut prev: Option<Vec3<T>> = None;
+    /// Number of path points of muscle `m` (active or not).
+    pub fn n_points(&self, m: usize) -> usize {
+        self.paths[m].len()
+    }
+
+    /// Calls `visit` with the position in ground [m] of each *active* path point of muscle
+    /// `m`, origin to insertion, at coordinates `q` whose body poses are `poses` (computed
+    /// by [`Kinematics::forward`] for the same `q`).
+    pub fn for_each_active_point<T: Scalar>(
+        &self,
+        m: usize,
+        q: &[T],
+        poses: &BodyPoses<T>,
+        mut visit: impl FnMut(Vec3<T>),
+    ) {
         for p in &self.paths[m] {
             let local: Vec3<T> = match &p.kind {
                 PointLocation::Fixed => p.location.map(T::cst),
@@ -130,13 +140,23 @@ impl MusclePaths {
                     l
                 }
             };
-            let g = poses.point_in_ground(p.body, &local);
+            visit(poses.point_in_ground(p.body, &local));
+        }
+    }
+
+    /// Muscle–tendon length [m] of muscle `m` at coordinates `q` whose body poses are
+    /// `poses` (computed by [`Kinematics::forward`] for the same `q`): the sum of the
+    /// straight segments between consecutive active path points.
+    pub fn length<T: Scalar>(&self, m: usize, q: &[T], poses: &BodyPoses<T>) -> T {
+        let mut total = T::zero();
+        let mut prev: Option<Vec3<T>> = None;
+        self.for_each_active_point(m, q, poses, |g| {
             if let Some(a) = prev {
                 let d = [g[0] - a[0], g[1] - a[1], g[2] - a[2]];
                 total += (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
             }
             prev = Some(g);
-        }
+        });
         total
     }
 }

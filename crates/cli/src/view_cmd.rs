@@ -1,0 +1,88 @@
+//! `stride view`: write a self-contained HTML page (works offline from the file system)
+//! that animates a result folder's gait cycle in 3D, or every case of a study folder.
+
+use anyhow::Context;
+use clap::Args;
+use std::path::{Path, PathBuf};
+use stride_model::Model;
+use stride_view::{folder, ViewOptions};
+
+/// Page written into a result or study folder.
+pub const VIEW_FILE: &str = "view.html";
+
+/// Arguments of `stride view`.
+#[derive(Args)]
+pub struct ViewArgs {
+    /// Result folder (`stride predict`, a study case) or study output folder (`stride study`).
+    pub folder: PathBuf,
+    /// OpenSim model the folder was predicted with (default: the folder's `.osim` when it
+    /// has one, else the study file's model, else the built-in model).
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Page to write (default: `<folder>/view.html`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Frames per gait cycle (default 100 for a result folder, 50 per case of a study).
+    #[arg(long)]
+    pub frames: Option<usize>,
+}
+
+/// Run `stride view`: write the page and print its path.
+pub fn run(args: ViewArgs) -> anyhow::Result<()> {
+    let model = view_model(&args.folder, args.model.as_deref())?;
+    let options = ViewOptions {
+        frames: args.frames,
+    };
+    let page = write_page(&args.folder, &model, args.out.as_deref(), &options)?;
+    println!("{}", page.display());
+    Ok(())
+}
+
+/// The page written at the end of `stride predict` and `stride study` into their output
+/// folder (`view.html`), with the model they solved; prints its path.
+pub fn write_default(folder: &Path, model: &Model) -> anyhow::Result<()> {
+    let page = write_page(folder, model, None, &ViewOptions::default())
+        .context("writing the viewer page (the results are complete; `stride view` retries)")?;
+    println!("viewer page {}", page.display());
+    Ok(())
+}
+
+/// Write the page of `folder` (a study folder when it has `study.toml` and `cases/`, else a
+/// result folder) to `out` (default `<folder>/view.html`) atomically; returns its path.
+fn write_page(
+    folder: &Path,
+    model: &Model,
+    out: Option<&Path>,
+    options: &ViewOptions,
+) -> anyhow::Result<PathBuf> {
+    let html = if folder::is_study_folder(folder) {
+        stride_view::study_page(model, folder, options)?
+    } else {
+        stride_view::result_page(model, folder, options)?
+    };
+    let path = out.map_or_else(|| folder.join(VIEW_FILE), Path::to_path_buf);
+    stride_model::storage::write_atomic(&path, html.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(path)
+}
+
+/// The model of a folder: `--model`, else its `.osim`, else (study folder) the study file's
+/// `model`, else the built-in model.
+fn view_model(folder: &Path, model: Option<&Path>) -> anyhow::Result<Model> {
+    let load = |p: &Path| {
+        stride_model::osim::load_osim(p).with_context(|| format!("loading model {}", p.display()))
+    };
+    if let Some(p) = model {
+        return load(p);
+    }
+    if let Some(p) = folder::model_file(folder)? {
+        return load(&p);
+    }
+    if folder::is_study_folder(folder) {
+        let study = stride_study::spec::load(&folder.join("study.toml"))?;
+        if let Some(p) = &study.header.model {
+            return load(p);
+        }
+    }
+    Ok(stride_model::default_model::default_model())
+}

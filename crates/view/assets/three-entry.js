@@ -1,0 +1,32 @@
+// Entry of the three.js bundle embedded in `stride view` pages: the parts of three.js the
+// page uses, plus OrbitControls, exposed as the global `THREE` (see README.md beside it).
+export {
+  WebGLRenderer,
+  Scene,
+  PerspectiveCamera,
+  Color,
+  Fog,
+  HemisphereLight,
+  DirectionalLight,
+  AmbientLight,
+  Group,
+  Mesh,
+  InstancedMesh,
+  MeshStandardMaterial,
+  MeshBasicMaterial,
+  CapsuleGeometry,
+  CylinderGeometry,
+  SphereGeometry,
+  ConeGeometry,
+  PlaneGeometry,
+  GridHelper,
+  Vector3,
+  Quaternion,
+  Matrix4,
+  Object3D,
+  DoubleSide,
+  PCFShadowMap,
+  SRGBColorSpace,
+  ACESFilmicToneMapping,
+} from 'three';
+export { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
