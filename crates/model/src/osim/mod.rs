@@ -10,6 +10,7 @@
 mod forces;
 mod functions;
 mod skeleton;
+mod wrap;
 mod xml;
 
 use crate::model::{Model, UnsupportedElement};
@@ -126,6 +127,7 @@ pub fn parse_osim(text_in: &str, source_name: &str) -> Result<Model, OsimError> 
         }
     }
     let frames = skeleton::read_skeleton(&ctx, model_el, v4, &mut model)?;
+    wrap::read_wrap_objects(&ctx, model_el, &frames, &mut model)?;
     forces::read_forces(&ctx, model_el, v4, &frames, &mut model)?;
     report_other_content(&ctx, model_el, &mut model);
     Ok(model)
@@ -159,7 +161,7 @@ fn report_other_content(ctx: &Ctx, model_el: xml::El, model: &mut Model) {
             }
         }
     }
-    // Visual content and wrap geometry (a wrap used by a path is reported as PathWrap).
+    // Visual content.
     for n in model_el.descendants().filter(|n| n.is_element()) {
         let t = tag(n);
         if matches!(
@@ -167,16 +169,6 @@ fn report_other_content(ctx: &Ctx, model_el: xml::El, model: &mut Model) {
             "VisibleObject" | "attached_geometry" | "FrameGeometry" | "Appearance"
         ) {
             *skipped.entry(t.to_string()).or_default() += 1;
-        }
-        if t == "WrapObjectSet" {
-            for w in objects(n) {
-                *skipped
-                    .entry(format!(
-                        "{} (wrap geometry; its uses are listed as PathWrap)",
-                        tag(w)
-                    ))
-                    .or_default() += 1;
-            }
         }
     }
     if !skipped.is_empty() {
