@@ -25,6 +25,9 @@ pub struct PathsArgs {
     pub geometry: Option<PathBuf>,
 }
 
+/// Fills the lengths [m] and the moment arms [m] (muscle-major, every coordinate) at `q`.
+type Evaluate = dyn FnMut(&[f64], &mut [f64], &mut [f64]);
+
 /// Run `stride model paths`: CSV `frame,muscle,length_m,ma_<coordinate>…` [m].
 pub fn run(args: PathsArgs) -> anyhow::Result<()> {
     let mut model = stride_model::osim::load_osim(&args.file)
@@ -40,7 +43,7 @@ pub fn run(args: PathsArgs) -> anyhow::Result<()> {
     // Per frame: lengths [m] and moment arms [muscle][coordinate] [m].
     let mut lengths = vec![0.0; nm];
     let mut arms = vec![0.0; nm * nc];
-    let mut evaluate: Box<dyn FnMut(&[f64], &mut [f64], &mut [f64])> = match &args.geometry {
+    let mut evaluate: Box<Evaluate> = match &args.geometry {
         Some(g) => {
             GeometryFile::read(g)?.apply(&mut model)?;
             let polys = model.path_polynomials.clone();

@@ -137,9 +137,7 @@ fn cylinder_choice(
     let (pick1, pick2) = if r1a_on == r1b_on {
         if on(comp(c2[0], z2)) {
             ba
-        } else if r1a_on || on(comp(c2[1], z2)) {
-            ab
-        } else if alpha > beta {
+        } else if r1a_on || on(comp(c2[1], z2)) || alpha > beta {
             ab
         } else {
             ba
@@ -183,7 +181,8 @@ pub(crate) fn wrap_cylinder<T: Scalar>(
         None => true,
         Some(q) if dsign(a[q.axis]) == q.sign || dsign(b[q.axis]) == q.sign => {
             let crosses = dsign(a[q.axis]) != dsign(b[q.axis]);
-            if !hits && !(crosses && dsign(near12[q.axis]) != q.sign) {
+            let wraps_across = crosses && dsign(near12[q.axis]) != q.sign;
+            if !(hits || wraps_across) {
                 return WrapAction::NoWrap;
             }
             hits
