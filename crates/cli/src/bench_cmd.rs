@@ -27,6 +27,9 @@ pub enum BenchCommand {
     /// The nominal prediction (1.33 m/s) per backend, Hessian and initial guess: time,
     /// iterations, objective and peak memory (one child process per case).
     Predict(PredictArgs),
+    /// Muscle path evaluation per pose (with wrapping) and the polynomial fit, per model,
+    /// on one thread.
+    Geometry(crate::bench_geometry::GeometryArgs),
     /// Solve one prediction case and print its measurements as one JSON line (used by
     /// `stride bench predict`).
     #[command(hide = true)]
@@ -175,6 +178,7 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Derivatives(a) => derivatives(a),
         BenchCommand::Kkt(a) => kkt(a),
         BenchCommand::Predict(a) => predict_grid(a),
+        BenchCommand::Geometry(a) => crate::bench_geometry::run(a),
         BenchCommand::PredictOne(a) => predict_one(a),
     }
 }

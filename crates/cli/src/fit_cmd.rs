@@ -2,11 +2,12 @@
 
 use anyhow::Context;
 use clap::Args;
-use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
-use stride_geometry::{fit_model, poses_from_motion, random_poses, FitModelOptions, FitOptions};
-use stride_model::PathPolynomial;
+use stride_geometry::{
+    content_hash, fit_model, poses_from_motion, random_poses, FitModelOptions, FitOptions,
+    FitSettings, GeometryFile,
+};
 
 /// Arguments of `stride model fit`.
 #[derive(Args)]
@@ -23,7 +24,8 @@ pub struct FitArgs {
     /// Seed of the random poses.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Write the fitted polynomials to this JSON file (atomically).
+    /// Write the fitted geometry to this file (JSON, atomically), for `stride predict
+    /// --geometry`, the study key `geometry` and `stride model paths --geometry`.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Lowest polynomial order tried.
@@ -37,23 +39,14 @@ pub struct FitArgs {
     pub tolerance_mm: f64,
 }
 
-/// The fitted geometry file: polynomials in model muscle order, keyed by muscle name.
-#[derive(Serialize)]
-struct FittedGeometry<'a> {
-    /// Model name.
-    model: &'a str,
-    /// Model coordinate names (the indices of `PathPolynomial::coordinates` refer to them).
-    coordinates: Vec<&'a str>,
-    /// Muscle names, same order as `path_polynomials`.
-    muscles: Vec<&'a str>,
-    /// Fitted polynomial per muscle (null when the muscle spans no coordinate).
-    path_polynomials: &'a [Option<PathPolynomial>],
-}
-
 /// Run `stride model fit`.
 pub fn run(args: FitArgs) -> anyhow::Result<()> {
-    let model = stride_model::osim::load_osim(&args.file)
-        .with_context(|| format!("loading {}", args.file.display()))?;
+    let bytes = std::fs::read(&args.file)
+        .with_context(|| format!("reading model {}", args.file.display()))?;
+    let model = stride_model::osim::parse_osim(
+        &String::from_utf8_lossy(&bytes),
+        &args.file.display().to_string(),
+    )?;
     let poses = match &args.samples {
         Some(p) => poses_from_motion(&model, p)?,
         None => random_poses(&model, args.n_samples, args.seed),
@@ -82,16 +75,29 @@ pub fn run(args: FitArgs) -> anyhow::Result<()> {
         poses.len(),
         elapsed
     );
+    let failures: Vec<&str> = report
+        .failures()
+        .iter()
+        .map(|r| r.muscle.as_str())
+        .collect();
+    if failures.is_empty() {
+        println!("every muscle within {:.1} mm", args.tolerance_mm);
+    } else {
+        println!(
+            "{} muscle(s) above the {:.1} mm threshold: {}",
+            failures.len(),
+            args.tolerance_mm,
+            failures.join(", ")
+        );
+    }
     if let Some(out) = &args.out {
-        let file = FittedGeometry {
-            model: &model.name,
-            coordinates: model.coordinates.iter().map(|c| c.name.as_str()).collect(),
-            muscles: model.muscles.iter().map(|m| m.name.as_str()).collect(),
-            path_polynomials: &report.polynomials,
+        let settings = FitSettings {
+            n_samples: poses.len(),
+            seed: args.samples.is_none().then_some(args.seed),
+            orders: [args.min_order, args.max_order],
+            tolerance: args.tolerance_mm * 1e-3,
         };
-        let text = serde_json::to_string_pretty(&file)?;
-        stride_model::storage::write_atomic(out, text.as_bytes())
-            .with_context(|| format!("writing {}", out.display()))?;
+        GeometryFile::new(&model, Some(content_hash(&bytes)), settings, &report).write(out)?;
         println!("wrote {}", out.display());
     }
     Ok(())

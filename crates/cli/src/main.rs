@@ -1,9 +1,12 @@
 //! `stride`: predict human gait from a musculoskeletal model and a target speed.
 
 mod bench_cmd;
+mod bench_geometry;
 mod data_cmd;
 mod fit_cmd;
 mod model_cmd;
+mod model_load;
+mod paths_cmd;
 mod predict_cmd;
 mod study_cmd;
 mod view_cmd;

@@ -29,6 +29,9 @@ pub enum ModelCommand {
     },
     /// Fit polynomial muscle-tendon geometry to the path points of an `.osim` file and print the accuracy table.
     Fit(crate::fit_cmd::FitArgs),
+    /// Muscle-tendon lengths and moment arms about every coordinate along a motion (CSV),
+    /// from the path geometry with wrapping, or from a fitted geometry (`--geometry`).
+    Paths(crate::paths_cmd::PathsArgs),
 }
 
 /// Run a model subcommand.
@@ -60,5 +63,6 @@ pub fn run(cmd: ModelCommand) -> anyhow::Result<()> {
             Ok(())
         }
         ModelCommand::Fit(args) => crate::fit_cmd::run(args),
+        ModelCommand::Paths(args) => crate::paths_cmd::run(args),
     }
 }

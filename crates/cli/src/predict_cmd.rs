@@ -15,12 +15,17 @@ use stride_solve::solver::{HessianMode, MuStrategy, Solver, SolverOptions};
 /// Arguments of `stride predict` (flags override the study file).
 #[derive(Args)]
 pub struct PredictArgs {
-    /// Study file (TOML) with `[problem]`, `[solver]`, `guesses`, `output`, `model`.
+    /// Study file (TOML) with `[problem]`, `[solver]`, `guesses`, `output`, `model`,
+    /// `geometry`.
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// OpenSim model (default: the built-in subject model).
     #[arg(long)]
     pub model: Option<PathBuf>,
+    /// Fitted muscle geometry of the model (`stride model fit --out`); default for an
+    /// `.osim`: the per-user cache, fitted on first use.
+    #[arg(long)]
+    pub geometry: Option<PathBuf>,
     /// Imposed average speed [m/s].
     #[arg(long, allow_hyphen_values = true)]
     pub speed: Option<f64>,
@@ -84,6 +89,7 @@ struct SolverSection {
 #[serde(deny_unknown_fields)]
 struct StudyFile {
     model: Option<PathBuf>,
+    geometry: Option<PathBuf>,
     output: Option<PathBuf>,
     guesses: Option<Vec<String>>,
     #[serde(default)]
@@ -260,11 +266,11 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
     // the guesses are solved at the same time: the cores are shared out between them
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     options.threads = (cores / guesses.len()).max(1);
-    let model = match args.model.or(study.model) {
-        Some(p) => stride_model::osim::load_osim(&p)
-            .with_context(|| format!("loading model {}", p.display()))?,
-        None => stride_model::default_model::default_model(),
-    };
+    let model = crate::model_load::load_model(
+        args.model.or(study.model).as_deref(),
+        args.geometry.or(study.geometry).as_deref(),
+        args.quiet,
+    )?;
     let out = args
         .out
         .or(study.output)
@@ -414,11 +420,7 @@ pub struct RewriteArgs {
 /// folder without a kept solution is an error; every other folder is still rewritten.
 pub fn rewrite(args: RewriteArgs) -> anyhow::Result<()> {
     use stride_ocp::solution::{rewrite_folder, Rewritten, SOLUTION_FILE};
-    let model = match &args.model {
-        Some(p) => stride_model::osim::load_osim(p)
-            .with_context(|| format!("loading model {}", p.display()))?,
-        None => stride_model::default_model::default_model(),
-    };
+    let model = crate::model_load::load_model(args.model.as_deref(), None, false)?;
     let mut failed = Vec::new();
     for dir in &args.folders {
         if !dir.join("summary.json").is_file() {

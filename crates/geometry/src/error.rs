@@ -43,4 +43,12 @@ pub enum GeometryError {
         /// Description including the line or column.
         what: String,
     },
+    /// A geometry file could not be read, written or understood.
+    #[error("{path}: {what}")]
+    File {
+        /// File path.
+        path: String,
+        /// Description.
+        what: String,
+    },
 }

@@ -206,7 +206,7 @@ fn normalize(a: [f64; 3]) -> [f64; 3] {
 }
 
 /// Rotation and location of an `Offset` frame in its body.
-fn offset_transform(o: &Offset) -> (Mat3<f64>, [f64; 3]) {
+pub(crate) fn offset_transform(o: &Offset) -> (Mat3<f64>, [f64; 3]) {
     let [a, b, c] = o.orientation;
     let rx = axis_angle([1.0, 0.0, 0.0], a);
     let ry = axis_angle([0.0, 1.0, 0.0], b);

@@ -3,24 +3,33 @@
 //!
 //! - [`basis`]: the monomial basis and its coefficient order (4.2).
 //! - [`fit`]: stacked length + moment-arm least squares and order selection (4.4).
-//! - [`function`], [`kinematics`], [`path`]: path-point geometry (length, moment arms,
-//!   lengthening speed) generic over the scalar.
+//! - [`function`], [`kinematics`], [`path`], [`wrap`]: path geometry (length, moment
+//!   arms, lengthening speed) with OpenSim's path points and wrapping over cylinders and
+//!   spheres, generic over the scalar.
 //! - [`samples`]: fitting poses from a motion file or drawn at random.
 //! - [`model_fit`]: fitting every muscle of a model and the accuracy report.
+//! - [`geometry_file`]: the fitted-geometry file and its per-model-content cache.
 
+mod atan;
 pub mod basis;
 pub mod error;
 pub mod fit;
 pub mod function;
+pub mod geometry_file;
 pub mod kinematics;
 pub mod lsq;
 pub mod model_fit;
 pub mod path;
+pub mod poly;
 pub mod samples;
+pub mod wrap;
+mod wrap_shapes;
 
 pub use basis::{basis_size, MonomialBasis};
 pub use error::GeometryError;
 pub use fit::{fit_order, fit_polynomial, FitOptions, MuscleSamples, PolynomialFit};
+pub use geometry_file::{cached_geometry, content_hash, FitSettings, GeometryFile, GeometrySource};
 pub use model_fit::{fit_model, sample_geometry, FitModelOptions, FitReport, MuscleFitRow};
 pub use path::{lengthening_speed, MusclePaths, PathGeometry};
+pub use poly::{polynomial_length, polynomial_moment_arm};
 pub use samples::{poses_from_motion, random_poses, PoseSamples};

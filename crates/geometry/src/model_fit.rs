@@ -3,7 +3,7 @@
 
 use crate::error::GeometryError;
 use crate::fit::{fit_polynomial, FitOptions, MuscleSamples, PolynomialFit};
-use crate::path::{PathGeometry, DEFAULT_FD_STEP};
+use crate::path::PathGeometry;
 use crate::samples::PoseSamples;
 use std::fmt::Write as _;
 use stride_model::{CoordId, Model, PathPolynomial};
@@ -18,8 +18,6 @@ pub struct FitModelOptions {
     pub fit: FitOptions,
     /// Spanning threshold on the summed moment arm [m].
     pub span_threshold: f64,
-    /// Finite-difference step for the path-point moment arms [rad or m].
-    pub fd_step: f64,
 }
 
 impl Default for FitModelOptions {
@@ -28,7 +26,6 @@ impl Default for FitModelOptions {
         Self {
             fit: FitOptions::default(),
             span_threshold: DEFAULT_SPAN_THRESHOLD,
-            fd_step: DEFAULT_FD_STEP,
         }
     }
 }
@@ -131,7 +128,6 @@ pub fn sample_geometry(
     model: &Model,
     poses: &PoseSamples,
     span_threshold: f64,
-    fd_step: f64,
 ) -> Result<SampledGeometry, GeometryError> {
     if poses.n_coords != model.coordinates.len() {
         return Err(GeometryError::SampleShape {
@@ -144,7 +140,6 @@ pub fn sample_geometry(
         });
     }
     let mut geo = PathGeometry::new(model)?;
-    geo.fd_step = fd_step;
     let nm = model.muscles.len();
     let candidates: Vec<CoordId> = (0..model.coordinates.len())
         .filter(|&i| !model.coordinates[i].locked)
@@ -207,7 +202,7 @@ pub fn fit_model(
     poses: &PoseSamples,
     options: &FitModelOptions,
 ) -> Result<FitReport, GeometryError> {
-    let sampled = sample_geometry(model, poses, options.span_threshold, options.fd_step)?;
+    let sampled = sample_geometry(model, poses, options.span_threshold)?;
     let mut rows = Vec::with_capacity(model.muscles.len());
     let mut polynomials = Vec::with_capacity(model.muscles.len());
     for (m, ms) in sampled.muscles.iter().enumerate() {

@@ -1,8 +1,10 @@
 //! Muscle–tendon length, moment arms and lengthening speed from OpenSim path points.
 //!
 //! The length is the sum of the straight segments between consecutive *active* path
-//! points. Whether a `Conditional` point is active is a discrete choice made from the
-//! primal value of its coordinate, and spline intervals of `Moving` points likewise: the
+//! points, with the segments that meet a wrap object replaced by the path over its
+//! surface ([`crate::wrap`]). Whether a `Conditional` point is active is a discrete choice made from the
+//! primal value of its coordinate, spline intervals of `Moving` points and whether and
+//! where a segment wraps likewise: the
 //! geometric length is generic over the scalar (so it can run on dual numbers) but is
 //! **not meant for recorded tapes**; the optimal control problem uses the fitted
 //! polynomials instead.
@@ -10,10 +12,11 @@
 use crate::error::GeometryError;
 use crate::function::PreparedFunction;
 use crate::kinematics::{BodyPoses, Kinematics, Vec3};
-use stride_ad::Scalar;
+use crate::wrap::{wrapped_length, Node, Origin, PreparedPathWrap, PreparedWrapObject};
+use stride_ad::{Dual, Scalar};
 use stride_model::{CoordId, Model, PathPointKind};
 
-/// Central finite-difference step used for moment arms [rad or m]: the truncation error
+/// Central finite-difference step of the checking moment arms [rad or m]: the truncation error
 /// (≈ h² l‴/6 ≈ 1e-13 m) and the round-off (≈ 1e-16 · l / h ≈ 1e-10 m) are both far
 /// below the 3 mm accuracy target.
 pub const DEFAULT_FD_STEP: f64 = 1e-6;
@@ -37,61 +40,65 @@ struct PreparedPoint {
     kind: PointLocation,
 }
 
-/// The path points of every muscle of a model, with spline coefficients precomputed.
+/// The path points and wraps of every muscle of a model, with spline coefficients and
+/// wrap frames precomputed.
 #[derive(Clone, Debug)]
 pub struct MusclePaths {
     paths: Vec<Vec<PreparedPoint>>,
+    wraps: Vec<Vec<PreparedPathWrap>>,
+    objects: Vec<PreparedWrapObject>,
 }
 
 impl MusclePaths {
     /// Prepares the paths of all muscles of `model`; errors on a point attached to a
-    /// missing body or driven by a missing coordinate.
+    /// missing body or driven by a missing coordinate, and on a wrap over a missing or
+    /// unsupported wrap object.
     pub fn new(model: &Model) -> Result<Self, GeometryError> {
-        let nb = model.bodies.len();
-        let nc = model.coordinates.len();
+        let objects = model
+            .wrap_objects
+            .iter()
+            .map(|o| PreparedWrapObject::new(o, model.bodies.len()))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut paths = Vec::with_capacity(model.muscles.len());
+        let mut wraps = Vec::with_capacity(model.muscles.len());
         for m in &model.muscles {
-            let mut pts = Vec::with_capacity(m.path.len());
-            for p in &m.path {
-                let bad = |what: &str| GeometryError::Model {
-                    what: format!("muscle {} path point {}: {what}", m.name, p.name),
-                };
-                if p.body >= nb {
-                    return Err(bad("body index out of range"));
+            let pts = m
+                .path
+                .iter()
+                .map(|p| prepare_point(model, &m.name, p))
+                .collect::<Result<Vec<_>, _>>()?;
+            paths.push(pts);
+            let mut ws = Vec::with_capacity(m.wraps.len());
+            for w in &m.wraps {
+                let o = model
+                    .wrap_objects
+                    .get(w.object)
+                    .ok_or_else(|| GeometryError::Model {
+                        what: format!(
+                            "muscle {}: wrap object index {} out of range",
+                            m.name, w.object
+                        ),
+                    })?;
+                if let Some(kind) = objects[w.object].unsupported() {
+                    return Err(GeometryError::Model {
+                        what: format!(
+                            "muscle {} wraps over {kind} `{}`: wrapping over {kind} is not implemented (WrapCylinder and WrapSphere are)",
+                            m.name, o.name
+                        ),
+                    });
                 }
-                let kind = match &p.kind {
-                    PathPointKind::Fixed => PointLocation::Fixed,
-                    PathPointKind::Conditional { coordinate, range } => {
-                        if *coordinate >= nc {
-                            return Err(bad("coordinate index out of range"));
-                        }
-                        PointLocation::Conditional {
-                            coordinate: *coordinate,
-                            range: *range,
-                        }
-                    }
-                    PathPointKind::Moving { components } => {
-                        let mut out: [Option<(CoordId, PreparedFunction)>; 3] = [None, None, None];
-                        for (o, c) in out.iter_mut().zip(components) {
-                            if let Some((ci, f)) = c {
-                                if *ci >= nc {
-                                    return Err(bad("coordinate index out of range"));
-                                }
-                                *o = Some((*ci, PreparedFunction::new(f)));
-                            }
-                        }
-                        PointLocation::Moving(Box::new(out))
-                    }
-                };
-                pts.push(PreparedPoint {
-                    body: p.body,
-                    location: p.location,
-                    kind,
+                ws.push(PreparedPathWrap {
+                    object: w.object,
+                    range: w.range,
                 });
             }
-            paths.push(pts);
+            wraps.push(ws);
         }
-        Ok(Self { paths })
+        Ok(Self {
+            paths,
+            wraps,
+            objects,
+        })
     }
 
     /// Number of muscles.
@@ -111,7 +118,7 @@ impl MusclePaths {
 
     /// Calls `visit` with the position in ground [m] of each *active* path point of muscle
     /// `m`, origin to insertion, at coordinates `q` whose body poses are `poses` (computed
-    /// by [`Kinematics::forward`] for the same `q`).
+    /// by [`Kinematics::forward`] for the same `q`). Wrapping points are not visited.
     pub fn for_each_active_point<T: Scalar>(
         &self,
         m: usize,
@@ -120,58 +127,135 @@ impl MusclePaths {
         mut visit: impl FnMut(Vec3<T>),
     ) {
         for p in &self.paths[m] {
-            let local: Vec3<T> = match &p.kind {
-                PointLocation::Fixed => p.location.map(T::cst),
-                PointLocation::Conditional { coordinate, range } => {
-                    // Discrete activity decision from the primal value (see module doc).
-                    let v = q[*coordinate].value();
-                    if v < range[0] || v > range[1] {
-                        continue;
-                    }
-                    p.location.map(T::cst)
-                }
-                PointLocation::Moving(components) => {
-                    let mut l = p.location.map(T::cst);
-                    for (li, c) in l.iter_mut().zip(components.iter()) {
-                        if let Some((ci, f)) = c {
-                            *li = f.eval(q[*ci]);
-                        }
-                    }
-                    l
-                }
-            };
-            visit(poses.point_in_ground(p.body, &local));
+            if let Some(g) = point_in_ground(p, q, poses) {
+                visit(g);
+            }
         }
     }
 
     /// Muscle–tendon length [m] of muscle `m` at coordinates `q` whose body poses are
-    /// `poses` (computed by [`Kinematics::forward`] for the same `q`): the sum of the
-    /// straight segments between consecutive active path points.
+    /// `poses` (computed by [`Kinematics::forward`] for the same `q`): straight segments
+    /// between the active path points, wrapped over the muscle's wrap objects as OpenSim
+    /// does.
     pub fn length<T: Scalar>(&self, m: usize, q: &[T], poses: &BodyPoses<T>) -> T {
+        if !self.wraps[m].is_empty() {
+            let mut path = Vec::with_capacity(self.paths[m].len() + 2 * self.wraps[m].len());
+            let mut active = Vec::with_capacity(self.paths[m].len());
+            for (i, p) in self.paths[m].iter().enumerate() {
+                let g = point_in_ground(p, q, poses);
+                active.push(g.is_some());
+                if let Some(g) = g {
+                    path.push(Node {
+                        at: g,
+                        origin: Origin::Point(i),
+                    });
+                }
+            }
+            return wrapped_length(&self.objects, &self.wraps[m], &active, path, poses);
+        }
         let mut total = T::zero();
         let mut prev: Option<Vec3<T>> = None;
-        self.for_each_active_point(m, q, poses, |g| {
+        for p in &self.paths[m] {
+            let Some(g) = point_in_ground(p, q, poses) else {
+                continue;
+            };
             if let Some(a) = prev {
-                let d = [g[0] - a[0], g[1] - a[1], g[2] - a[2]];
-                total += (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                total += distance(&a, &g);
             }
             prev = Some(g);
-        });
+        }
         total
     }
 }
 
-/// Path-point geometry of a whole model on `f64`, with preallocated workspaces.
+/// Checks and prepares one path point of muscle `muscle`.
+fn prepare_point(
+    model: &Model,
+    muscle: &str,
+    p: &stride_model::PathPoint,
+) -> Result<PreparedPoint, GeometryError> {
+    let nc = model.coordinates.len();
+    let bad = |what: &str| GeometryError::Model {
+        what: format!("muscle {muscle} path point {}: {what}", p.name),
+    };
+    if p.body >= model.bodies.len() {
+        return Err(bad("body index out of range"));
+    }
+    let kind = match &p.kind {
+        PathPointKind::Fixed => PointLocation::Fixed,
+        PathPointKind::Conditional { coordinate, range } => {
+            if *coordinate >= nc {
+                return Err(bad("coordinate index out of range"));
+            }
+            PointLocation::Conditional {
+                coordinate: *coordinate,
+                range: *range,
+            }
+        }
+        PathPointKind::Moving { components } => {
+            let mut out: [Option<(CoordId, PreparedFunction)>; 3] = [None, None, None];
+            for (o, c) in out.iter_mut().zip(components) {
+                if let Some((ci, f)) = c {
+                    if *ci >= nc {
+                        return Err(bad("coordinate index out of range"));
+                    }
+                    *o = Some((*ci, PreparedFunction::new(f)));
+                }
+            }
+            PointLocation::Moving(Box::new(out))
+        }
+    };
+    Ok(PreparedPoint {
+        body: p.body,
+        location: p.location,
+        kind,
+    })
+}
+
+/// Position in ground [m] of a path point, or `None` when it is inactive (a conditional
+/// point outside its range; decided on the primal value, see the module doc).
+fn point_in_ground<T: Scalar>(p: &PreparedPoint, q: &[T], poses: &BodyPoses<T>) -> Option<Vec3<T>> {
+    let local: Vec3<T> = match &p.kind {
+        PointLocation::Fixed => p.location.map(T::cst),
+        PointLocation::Conditional { coordinate, range } => {
+            let v = q[*coordinate].value();
+            if v < range[0] || v > range[1] {
+                return None;
+            }
+            p.location.map(T::cst)
+        }
+        PointLocation::Moving(components) => {
+            let mut l = p.location.map(T::cst);
+            for (li, c) in l.iter_mut().zip(components.iter()) {
+                if let Some((ci, f)) = c {
+                    *li = f.eval(q[*ci]);
+                }
+            }
+            l
+        }
+    };
+    Some(poses.point_in_ground(p.body, &local))
+}
+
+/// Euclidean distance [m] between two points.
+pub(crate) fn distance<T: Scalar>(a: &Vec3<T>, b: &Vec3<T>) -> T {
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+}
+
+/// Path geometry of a whole model on `f64`, with preallocated workspaces.
 #[derive(Clone, Debug)]
 pub struct PathGeometry {
     /// Forward kinematics of the skeleton.
     pub kinematics: Kinematics,
     /// Prepared muscle paths.
     pub paths: MusclePaths,
-    /// Finite-difference step for moment arms [rad or m].
+    /// Finite-difference step of [`PathGeometry::moment_arms_fd`] [rad or m].
     pub fd_step: f64,
     poses: BodyPoses<f64>,
+    dual_poses: BodyPoses<Dual>,
     q_work: Vec<f64>,
+    q_dual: Vec<Dual>,
     plus: Vec<f64>,
     minus: Vec<f64>,
 }
@@ -184,7 +268,9 @@ impl PathGeometry {
         let n = model.muscles.len();
         Ok(Self {
             poses: BodyPoses::new(kinematics.n_bodies()),
+            dual_poses: BodyPoses::new(kinematics.n_bodies()),
             q_work: vec![0.0; kinematics.n_coords()],
+            q_dual: vec![Dual::constant(0.0); kinematics.n_coords()],
             kinematics,
             paths,
             fd_step: DEFAULT_FD_STEP,
@@ -201,9 +287,21 @@ impl PathGeometry {
         }
     }
 
-    /// Moment arms `r = −∂l/∂q_c` [m] of all muscles about coordinate `c` at `q`, by
-    /// central finite differences with step [`PathGeometry::fd_step`], into `out`.
+    /// Moment arms `r = −∂l/∂q_c` [m] of all muscles about coordinate `c` at `q`, exact
+    /// (forward-mode dual numbers along `q_c`), into `out`.
     pub fn moment_arms(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
+        for (i, (d, v)) in self.q_dual.iter_mut().zip(q).enumerate() {
+            *d = Dual::new(*v, if i == c { 1.0 } else { 0.0 });
+        }
+        self.kinematics.forward(&self.q_dual, &mut self.dual_poses);
+        for (m, o) in out.iter_mut().enumerate() {
+            *o = -self.paths.length(m, &self.q_dual, &self.dual_poses).eps;
+        }
+    }
+
+    /// Moment arms as [`PathGeometry::moment_arms`], by central finite differences with
+    /// step [`PathGeometry::fd_step`] (an independent check of the exact ones).
+    pub fn moment_arms_fd(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
         let h = self.fd_step;
         self.q_work.copy_from_slice(q);
         self.q_work[c] = q[c] + h;

@@ -40,7 +40,7 @@ fn dual_moment_arms_and_speed_match_finite_differences() {
     for s in 0..poses.len() {
         let q = poses.pose(s);
         for &c in &coords {
-            geo.moment_arms(q, c, &mut fd);
+            geo.moment_arms_fd(q, c, &mut fd);
             let qd: Vec<Dual> = q
                 .iter()
                 .enumerate()
@@ -74,7 +74,7 @@ fn dual_moment_arms_and_speed_match_finite_differences() {
         let r: Vec<f64> = coords
             .iter()
             .map(|&c| {
-                geo.moment_arms(q, c, &mut fd);
+                geo.moment_arms_fd(q, c, &mut fd);
                 fd[m]
             })
             .collect();

@@ -30,6 +30,9 @@ pub struct Model {
     pub coordinates: Vec<Coordinate>,
     /// Hill-type muscles with their paths.
     pub muscles: Vec<Muscle>,
+    /// Surfaces fixed on bodies that muscle paths wrap over (OpenSim `WrapObjectSet`s).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wrap_objects: Vec<WrapObject>,
     /// Contact spheres interacting with the ground half-space.
     pub contacts: Vec<ContactSphere>,
     /// Ideal coordinate actuators (torque or force generators).
@@ -229,6 +232,9 @@ pub struct Muscle {
     pub max_contraction_velocity: f64,
     /// Path points from origin to insertion.
     pub path: Vec<PathPoint>,
+    /// Wrap objects the path wraps over, in the order OpenSim applies them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wraps: Vec<PathWrap>,
     /// Fraction of slow-twitch fibres (0–1) for the metabolic models (0.5 when unknown).
     pub slow_twitch_fraction: f64,
     /// Specific tension σ [Pa] used for the muscle mass (0.25 MPa when unknown).
@@ -284,6 +290,90 @@ pub enum PathPointKind {
         /// component of `location`.
         components: [Option<(CoordId, Function)>; 3],
     },
+}
+
+/// A surface fixed on a body that muscle paths wrap over (OpenSim `WrapObject`).
+///
+/// The surface is placed in its body by `rotation` (body-fixed X–Y–Z Euler angles [rad])
+/// and `translation` [m]; cylinder and torus axes are the z axis of that frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WrapObject {
+    /// Wrap object name (unique in the model).
+    pub name: String,
+    /// Body the surface is fixed to.
+    pub body: BodyId,
+    /// Orientation in the body as body-fixed X–Y–Z Euler angles [rad].
+    pub rotation: [f64; 3],
+    /// Origin in the body frame [m].
+    pub translation: [f64; 3],
+    /// Side of the surface a path may wrap over; `None` for all sides.
+    pub quadrant: Option<WrapQuadrant>,
+    /// Whether paths wrap over it (OpenSim `active`).
+    pub active: bool,
+    /// Shape and dimensions.
+    pub shape: WrapShape,
+}
+
+/// The active side of a wrap object: the half-space `sign · x[axis] > 0` of its frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WrapQuadrant {
+    /// Axis of the wrap frame: 0 = x, 1 = y, 2 = z.
+    pub axis: usize,
+    /// +1 or −1.
+    pub sign: i8,
+}
+
+/// Shape of a wrap object, dimensions in metres.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum WrapShape {
+    /// Circular cylinder along z, centred on the origin.
+    Cylinder {
+        /// Radius [m].
+        radius: f64,
+        /// Length along z [m].
+        length: f64,
+    },
+    /// Sphere centred on the origin.
+    Sphere {
+        /// Radius [m].
+        radius: f64,
+    },
+    /// Ellipsoid centred on the origin with semi-axes along x, y, z.
+    Ellipsoid {
+        /// Semi-axes [m].
+        radii: [f64; 3],
+    },
+    /// Torus around the z axis.
+    Torus {
+        /// Inner radius (of the tube) [m].
+        inner_radius: f64,
+        /// Outer radius (centre of the tube from the axis) [m].
+        outer_radius: f64,
+    },
+}
+
+impl WrapShape {
+    /// OpenSim class name of the shape (`WrapCylinder`, …).
+    pub fn class_name(&self) -> &'static str {
+        match self {
+            Self::Cylinder { .. } => "WrapCylinder",
+            Self::Sphere { .. } => "WrapSphere",
+            Self::Ellipsoid { .. } => "WrapEllipsoid",
+            Self::Torus { .. } => "WrapTorus",
+        }
+    }
+}
+
+/// One wrap of a muscle path over a wrap object (OpenSim `PathWrap`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PathWrap {
+    /// Index in [`Model::wrap_objects`].
+    pub object: usize,
+    /// First and last path point considered (1-based indices into the muscle's full list
+    /// of path points, active or not); a value below 1 means the first / last point.
+    pub range: [i32; 2],
+    /// OpenSim wrapping method (`hybrid`, `midpoint` or `axial`; used by ellipsoids).
+    pub method: String,
 }
 
 /// Parameters of the smooth Hunt–Crossley sphere–plane contact (OpenSim
@@ -499,6 +589,7 @@ impl Default for Model {
             joints: Vec::new(),
             coordinates: Vec::new(),
             muscles: Vec::new(),
+            wrap_objects: Vec::new(),
             contacts: Vec::new(),
             actuators: Vec::new(),
             passive_torques: Vec::new(),

@@ -251,17 +251,7 @@ fn muscle(
             ),
         ));
     }
-    if let Some(pw) = child(gp, "PathWrapSet") {
-        for w in objects(pw) {
-            let obj = child_text(w, "wrap_object").to_string();
-            report(
-                ctx,
-                model,
-                w,
-                format!("path wrapping (over `{obj}`) is ignored: the path is straight-line"),
-            );
-        }
-    }
+    let wraps = super::wrap::read_path_wraps(ctx, gp, path.len(), model)?;
     let positive = |tagname: &str, v: f64| -> Result<f64, OsimError> {
         if v > 0.0 && v.is_finite() {
             Ok(v)
@@ -287,6 +277,7 @@ fn muscle(
         pennation_angle_at_optimal: ctx.opt_f64(f, "pennation_angle_at_optimal", 0.0)?,
         max_contraction_velocity: ctx.opt_f64(f, "max_contraction_velocity", 10.0)?,
         path,
+        wraps,
         slow_twitch_fraction: 0.5,
         specific_tension: 0.25e6,
     })

@@ -16,6 +16,7 @@
 mod forces;
 mod functions;
 mod skeleton;
+mod wrap;
 mod xml;
 
 use crate::model::{Model, UnsupportedElement};
@@ -137,6 +138,7 @@ pub fn parse_osim(text_in: &str, source_name: &str) -> Result<Model, OsimError> 
     if let Some(cs) = child(model_el, "ConstraintSet") {
         skeleton::read_constraints(&ctx, cs, v4, &mut model)?;
     }
+    wrap::read_wrap_objects(&ctx, model_el, &frames, &mut model)?;
     forces::read_forces(&ctx, model_el, v4, &frames, &mut model)?;
     report_other_content(&ctx, model_el, &mut model);
     Ok(model)
@@ -170,7 +172,7 @@ fn report_other_content(ctx: &Ctx, model_el: xml::El, model: &mut Model) {
             }
         }
     }
-    // Visual content and wrap geometry (a wrap used by a path is reported as PathWrap).
+    // Visual content.
     for n in model_el.descendants().filter(|n| n.is_element()) {
         let t = tag(n);
         if matches!(
@@ -178,16 +180,6 @@ fn report_other_content(ctx: &Ctx, model_el: xml::El, model: &mut Model) {
             "VisibleObject" | "attached_geometry" | "FrameGeometry" | "Appearance"
         ) {
             *skipped.entry(t.to_string()).or_default() += 1;
-        }
-        if t == "WrapObjectSet" {
-            for w in objects(n) {
-                *skipped
-                    .entry(format!(
-                        "{} (wrap geometry; its uses are listed as PathWrap)",
-                        tag(w)
-                    ))
-                    .or_default() += 1;
-            }
         }
     }
     if !skipped.is_empty() {

@@ -23,6 +23,11 @@ const V3: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
           <inertia_xy>0</inertia_xy>
           <inertia_xz>0</inertia_xz>
           <inertia_yz>0</inertia_yz>
+          <WrapObjectSet><objects>
+            <WrapCylinder name="cyl"><xyz_body_rotation>0 0 0.5</xyz_body_rotation>
+              <translation>0 -0.1 0</translation><quadrant>-y</quadrant>
+              <radius>0.03</radius><length>0.1</length></WrapCylinder>
+          </objects></WrapObjectSet>
           <Joint>
             <CustomJoint name="hip">
               <parent_body>ground</parent_body>
@@ -92,7 +97,7 @@ const V3: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
                 </MovingPathPoint>
               </objects>
             </PathPointSet>
-            <PathWrapSet><objects><PathWrap name="w"><wrap_object>cyl</wrap_object></PathWrap></objects></PathWrapSet>
+            <PathWrapSet><objects><PathWrap name="w"><wrap_object>cyl</wrap_object><range>1 3</range></PathWrap></objects></PathWrapSet>
           </GeometryPath>
           <max_isometric_force>1000</max_isometric_force>
           <optimal_fiber_length>0.1</optimal_fiber_length>
@@ -158,10 +163,30 @@ fn tiny_v3_model() {
     assert_eq!(mu.path[2].location, [0.0, -0.1, 0.0]);
     assert_eq!(m.actuators.len(), 1);
     assert_eq!(m.actuators[0].control_range, [-1.0, 1.0]);
-    // The disabled PointActuator and PathWrap reported; markers counted in the summary.
+    // The wrap cylinder and the path's wrap over it.
+    assert_eq!(m.wrap_objects.len(), 1);
+    let w = &m.wrap_objects[0];
+    assert_eq!((w.name.as_str(), w.body), ("cyl", 1));
+    assert_eq!(
+        (w.rotation, w.translation),
+        ([0.0, 0.0, 0.5], [0.0, -0.1, 0.0])
+    );
+    assert_eq!(
+        w.quadrant,
+        Some(crate::model::WrapQuadrant { axis: 1, sign: -1 })
+    );
+    assert_eq!(
+        w.shape,
+        crate::model::WrapShape::Cylinder {
+            radius: 0.03,
+            length: 0.1
+        }
+    );
+    assert_eq!(mu.wraps.len(), 1);
+    assert_eq!((mu.wraps[0].object, mu.wraps[0].range), (0, [1, 3]));
+    // The disabled PointActuator reported; markers counted in the summary.
     let kinds: Vec<&str> = m.unsupported.iter().map(|u| u.element.as_str()).collect();
     assert!(kinds.contains(&"PointActuator"), "{kinds:?}");
-    assert!(kinds.contains(&"PathWrap"), "{kinds:?}");
     let summary = m
         .unsupported
         .iter()
@@ -280,4 +305,39 @@ fn unknown_coordinate_in_transform_axis() {
 fn old_format_rejected() {
     let t = V3.replace("Version=\"30000\"", "Version=\"20302\"");
     assert!(err_of(&t).contains("20302"));
+}
+
+#[test]
+fn unknown_wrap_class_names_file_line_and_object() {
+    let text = V3
+        .replace("WrapCylinder name=\"cyl\"", "WrapCone name=\"cyl\"")
+        .replace("</WrapCylinder>", "</WrapCone>");
+    let e = err_of(&text);
+    let line = line_of(&text, "<WrapCone");
+    assert!(e.starts_with(&format!("bad.osim:{line}:")), "{e}");
+    assert!(e.contains("`cyl`") && e.contains("WrapCone"), "{e}");
+}
+
+#[test]
+fn path_wrap_over_a_missing_object_is_an_error() {
+    let text = V3.replace(
+        "<wrap_object>cyl</wrap_object>",
+        "<wrap_object>nope</wrap_object>",
+    );
+    let e = err_of(&text);
+    let line = line_of(&text, "<wrap_object>nope");
+    assert!(e.starts_with(&format!("bad.osim:{line}:")), "{e}");
+    assert!(e.contains("unknown wrap object `nope`"), "{e}");
+}
+
+#[test]
+fn path_point_on_a_missing_body_is_an_error() {
+    let text = V3.replace(
+        "<location>0 -0.1 0</location><body>thigh</body>",
+        "<location>0 -0.1 0</location><body>shank</body>",
+    );
+    let e = err_of(&text);
+    let line = line_of(&text, "<body>shank</body>");
+    assert!(e.starts_with(&format!("bad.osim:{line}:")), "{e}");
+    assert!(e.contains("shank"), "{e}");
 }

@@ -1,0 +1,243 @@
+//! The fitted-geometry file written by `stride model fit` and read by `stride predict`
+//! (`--geometry`, study key `geometry`, or the per-user cache): polynomials keyed by muscle
+//! and coordinate names, the fitting settings, the accuracy of every muscle and the
+//! content hash of the model file it was fitted to.
+
+use crate::error::GeometryError;
+use crate::model_fit::{fit_model, FitModelOptions, FitReport};
+use crate::samples::random_poses;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use stride_model::{Model, PathPolynomial};
+
+/// Format tag of the file (first key), so that other JSON files are rejected clearly.
+pub const FORMAT: &str = "stride-muscle-geometry-1";
+
+/// How the fitting poses were made.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FitSettings {
+    /// Number of poses.
+    pub n_samples: usize,
+    /// Seed of the random poses (`None` when the poses came from a motion file).
+    pub seed: Option<u64>,
+    /// Lowest and highest polynomial order tried.
+    pub orders: [u32; 2],
+    /// Accuracy target on the RMS length and moment-arm errors [m].
+    pub tolerance: f64,
+}
+
+impl Default for FitSettings {
+    /// The fit made on first use: 5000 random poses in the paper's ranges (seed 1),
+    /// orders 3–9, 3 mm.
+    fn default() -> Self {
+        Self {
+            n_samples: 5000,
+            seed: Some(1),
+            orders: [3, 9],
+            tolerance: 3e-3,
+        }
+    }
+}
+
+/// Accuracy of one muscle's polynomial on the fitting poses.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MuscleAccuracy {
+    /// Muscle name.
+    pub muscle: String,
+    /// Retained order (0: spans no coordinate, no polynomial).
+    pub order: u32,
+    /// RMS length error [mm].
+    pub rms_length_mm: f64,
+    /// Largest RMS moment-arm error over the spanned coordinates [mm].
+    pub max_rms_moment_arm_mm: f64,
+    /// Both within the tolerance.
+    pub meets_tolerance: bool,
+}
+
+/// The fitted muscle geometry of one model file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeometryFile {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// Model name.
+    pub model: String,
+    /// [`content_hash`] of the model file fitted (`None` when unknown).
+    pub model_hash: Option<String>,
+    /// Fitting settings.
+    pub settings: FitSettings,
+    /// Model coordinate names (polynomial coordinate indices refer to this list).
+    pub coordinates: Vec<String>,
+    /// Muscle names, same order as `path_polynomials`.
+    pub muscles: Vec<String>,
+    /// Polynomial of every muscle (`None` when it spans no coordinate).
+    pub path_polynomials: Vec<Option<PathPolynomial>>,
+    /// Accuracy of every muscle.
+    pub accuracy: Vec<MuscleAccuracy>,
+}
+
+impl GeometryFile {
+    /// The file for `report`, fitted to `model` (file hash `model_hash`).
+    pub fn new(
+        model: &Model,
+        model_hash: Option<String>,
+        settings: FitSettings,
+        report: &FitReport,
+    ) -> Self {
+        Self {
+            format: FORMAT.to_string(),
+            model: model.name.clone(),
+            model_hash,
+            settings,
+            coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
+            muscles: model.muscles.iter().map(|m| m.name.clone()).collect(),
+            path_polynomials: report.polynomials.clone(),
+            accuracy: report
+                .rows
+                .iter()
+                .map(|r| MuscleAccuracy {
+                    muscle: r.muscle.clone(),
+                    order: r.order,
+                    rms_length_mm: r.rms_length_mm,
+                    max_rms_moment_arm_mm: r.max_rms_moment_arm_mm,
+                    meets_tolerance: r.meets_tolerance,
+                })
+                .collect(),
+        }
+    }
+
+    /// Reads a geometry file; a file that is not one (e.g. an `.osim`) is an error that
+    /// says so.
+    pub fn read(path: &Path) -> Result<Self, GeometryError> {
+        let err = |what: String| GeometryError::File {
+            path: path.display().to_string(),
+            what,
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read: {e}")))?;
+        let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+            err(format!(
+                "not a stride muscle-geometry file (written by `stride model fit --out`): {e}"
+            ))
+        })?;
+        if value.get("format").and_then(|f| f.as_str()) != Some(FORMAT) {
+            return Err(err(format!(
+                "not a stride muscle-geometry file: `format` is not \"{FORMAT}\""
+            )));
+        }
+        serde_json::from_value(value).map_err(|e| err(e.to_string()))
+    }
+
+    /// Writes the file atomically (nothing is left behind on failure).
+    pub fn write(&self, path: &Path) -> Result<(), GeometryError> {
+        let text = serde_json::to_string_pretty(self).map_err(|e| GeometryError::File {
+            path: path.display().to_string(),
+            what: e.to_string(),
+        })?;
+        stride_model::storage::write_atomic(path, text.as_bytes()).map_err(|e| {
+            GeometryError::File {
+                path: path.display().to_string(),
+                what: e.to_string(),
+            }
+        })
+    }
+
+    /// Sets `model.path_polynomials` from this file, matching muscles and coordinates by
+    /// name; every muscle of the model must be in the file.
+    pub fn apply(&self, model: &mut Model) -> Result<(), GeometryError> {
+        let mut polys = Vec::with_capacity(model.muscles.len());
+        for m in &model.muscles {
+            let k = self
+                .muscles
+                .iter()
+                .position(|n| *n == m.name)
+                .ok_or_else(|| GeometryError::Model {
+                    what: format!(
+                        "{}: muscle {} has no polynomial in the geometry file (fitted to model {})",
+                        model.name, m.name, self.model
+                    ),
+                })?;
+            let Some(p) = self.path_polynomials.get(k).cloned().flatten() else {
+                polys.push(None);
+                continue;
+            };
+            let mut p = p;
+            for c in p.coordinates.iter_mut() {
+                let name = self
+                    .coordinates
+                    .get(*c)
+                    .ok_or_else(|| GeometryError::Model {
+                        what: format!(
+                            "geometry file: muscle {}: coordinate index {c} out of range",
+                            m.name
+                        ),
+                    })?;
+                *c = model
+                    .coordinate_index(name)
+                    .ok_or_else(|| GeometryError::Model {
+                        what: format!(
+                            "{}: coordinate {name} of muscle {}'s polynomial is not in the model",
+                            model.name, m.name
+                        ),
+                    })?;
+            }
+            polys.push(Some(p));
+        }
+        model.path_polynomials = polys;
+        Ok(())
+    }
+}
+
+/// Content hash of a model file: 128 bits (two FNV-1a 64-bit hashes with different
+/// offsets), hexadecimal — a cache key, not a cryptographic digest.
+pub fn content_hash(bytes: &[u8]) -> String {
+    let fnv = |basis: u64| {
+        bytes.iter().fold(basis, |h, b| {
+            (h ^ u64::from(*b)).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+    };
+    format!(
+        "{:016x}{:016x}",
+        fnv(0xcbf2_9ce4_8422_2325),
+        fnv(0x6c62_272e_07bb_0142)
+    )
+}
+
+/// Where a model's geometry came from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GeometrySource {
+    /// Read from the cache file.
+    Cached(PathBuf),
+    /// Fitted now and written to the cache file.
+    Fitted(PathBuf),
+}
+
+/// The fitted geometry of the model file whose content is `model_bytes` (already parsed
+/// into `model`): read from `cache_dir` when a fit of the same content and settings is
+/// there, else fitted with `settings` and stored there.
+pub fn cached_geometry(
+    model: &Model,
+    model_bytes: &[u8],
+    cache_dir: &Path,
+    settings: &FitSettings,
+) -> Result<(GeometryFile, GeometrySource), GeometryError> {
+    let hash = content_hash(model_bytes);
+    let path = cache_dir.join(format!("geometry-{hash}.json"));
+    if let Ok(file) = GeometryFile::read(&path) {
+        if file.model_hash.as_deref() == Some(hash.as_str()) && file.settings == *settings {
+            return Ok((file, GeometrySource::Cached(path)));
+        }
+    }
+    let poses = random_poses(model, settings.n_samples, settings.seed.unwrap_or(1));
+    let mut options = FitModelOptions::default();
+    options.fit.min_order = settings.orders[0];
+    options.fit.max_order = settings.orders[1];
+    options.fit.tolerance = settings.tolerance;
+    let report = fit_model(model, &poses, &options)?;
+    let file = GeometryFile::new(model, Some(hash), settings.clone(), &report);
+    std::fs::create_dir_all(cache_dir).map_err(|e| GeometryError::File {
+        path: cache_dir.display().to_string(),
+        what: format!("cannot create the cache folder: {e}"),
+    })?;
+    file.write(&path)?;
+    Ok((file, GeometrySource::Fitted(path)))
+}
