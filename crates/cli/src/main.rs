@@ -5,6 +5,7 @@ mod data_cmd;
 mod fit_cmd;
 mod model_cmd;
 mod predict_cmd;
+mod progress;
 mod study_cmd;
 
 use clap::{Parser, Subcommand};

@@ -41,6 +41,10 @@ pub struct Model {
     pub path_polynomials: Vec<Option<PathPolynomial>>,
     /// Elements of the source file that were not imported, reported to the user.
     pub unsupported: Vec<UnsupportedElement>,
+    /// The OpenSim model file this model was imported from (result folders ship a copy of
+    /// it); `None` for the built-in model and for models built in code.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source_file: Option<std::path::PathBuf>,
 }
 
 /// A rigid body.
@@ -392,6 +396,7 @@ impl Default for Model {
             passive_torques: Vec::new(),
             path_polynomials: Vec::new(),
             unsupported: Vec::new(),
+            source_file: None,
         }
     }
 }
