@@ -9,7 +9,8 @@ use stride_model::storage::Storage;
 use stride_ocp::{predict, problem::GaitProblem};
 use stride_solve::solver::SolverOptions;
 
-/// The data-informed walking guess on 10 intervals, written as the kept solution of a
+/// The data-informed walking guess on 10 intervals (`continuous`: its states at the end of
+/// each interval those of the next mesh point), written as the kept solution of a
 /// prediction into `<temp>/stride-<tag>-<pid>/run`.
 struct GuessResults {
     model: stride_model::Model,
@@ -20,8 +21,11 @@ struct GuessResults {
     summary: predict::Summary,
 }
 
-fn guess_results(tag: &str) -> GuessResults {
-    let (model, problem, solved) = common::guess_solved(10);
+fn guess_results(tag: &str, continuous: bool) -> GuessResults {
+    let (model, problem, mut solved) = common::guess_solved(10);
+    if continuous {
+        common::continuous(&problem, &mut solved[0].result.x);
+    }
     let dir = std::env::temp_dir().join(format!("stride-{tag}-{}", std::process::id()));
     let out = dir.join("run");
     let summary = predict::write_results(
@@ -52,7 +56,7 @@ fn results_are_valid_storage_files() {
         dir,
         out,
         summary,
-    } = guess_results("results");
+    } = guess_results("results", false);
     let motion = Storage::read(&out.join("motion.mot")).unwrap();
     assert_eq!(motion.in_degrees, Some(true));
     assert_eq!(motion.rows.len(), 20, "full cycle = 2N samples");
@@ -189,7 +193,7 @@ fn results_are_valid_storage_files() {
 /// state paths and holds the motion's coordinates in radians.
 #[test]
 fn tables_carry_units_and_states_carry_opensim_paths() {
-    let r = guess_results("units");
+    let r = guess_results("units", false);
     let header = |f: &str| {
         let text = std::fs::read_to_string(r.out.join(f)).unwrap();
         text.lines().next().unwrap().to_string()
@@ -251,12 +255,13 @@ fn tables_carry_units_and_states_carry_opensim_paths() {
 
 /// Whenever a foot carries load, its centre of pressure in `grf.mot` lies under that foot:
 /// within the ground-plane footprint of the foot's contact spheres that are at or near the
-/// ground, placed by the model's kinematics at the coordinates of `motion.mot` (an
-/// independent route: forward kinematics of the written motion, not the contact forces).
+/// ground (1 cm margin, plus the shift of tangential forces acting below the plane), placed
+/// by the model's kinematics at the coordinates of `motion.mot` (an independent route:
+/// forward kinematics of the written motion, not the contact moments).
 #[test]
 fn each_foot_centre_of_pressure_lies_under_that_foot() {
     use stride_multibody::{forward_kinematics, point_position, Data};
-    let r = guess_results("cop");
+    let r = guess_results("cop", true);
     let model = &r.model;
     let motion = Storage::read(&r.out.join("motion.mot")).unwrap();
     let grf = Storage::read(&r.out.join("grf.mot")).unwrap();
@@ -304,8 +309,15 @@ fn each_foot_centre_of_pressure_lies_under_that_foot() {
                 !near.is_empty(),
                 "{side} foot loaded with no sphere near the ground"
             );
-            let margin = 0.01;
-            for (axis, c) in [(0, "px"), (2, "pz")] {
+            // A contact force acts midway through its sphere's overlap with the ground: its
+            // tangential part, applied that far below the ground plane, moves the centre of
+            // pressure on the plane by depth × tangential / normal force.
+            let depth = spheres
+                .iter()
+                .map(|(p, rad)| 0.5 * (rad - p[1]).max(0.0))
+                .fold(0.0, f64::max);
+            for (axis, c, f) in [(0, "px", "vx"), (2, "pz", "vz")] {
+                let margin = 0.01 + depth * col(f).abs() / col("vy");
                 let lo = near.iter().map(|p| p[axis]).fold(f64::INFINITY, f64::min);
                 let hi = near
                     .iter()
@@ -315,8 +327,9 @@ fn each_foot_centre_of_pressure_lies_under_that_foot() {
                 assert!(
                     cop > lo - margin && cop < hi + margin,
                     "t = {}: {side} centre of pressure {c} = {cop:.3} m outside the foot's \
-                     contact spheres [{lo:.3}, {hi:.3}] m",
-                    row[0]
+                     contact spheres [{lo:.3}, {hi:.3}] m (force {:.0} N; spheres {spheres:?})",
+                    row[0],
+                    col("vy")
                 );
             }
             checked[k] += 1;

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 use stride_ocp::{
-    data, experimental::Kinematics, guess::GuessKind, predict, problem::GaitProblem,
+    data, experimental::Kinematics, guess::GuessKind, layout::Point, predict, problem::GaitProblem,
     settings::ProblemSettings,
 };
 use stride_solve::solver::{SolveResult, SolveStatus};
@@ -49,4 +49,27 @@ pub fn guess_solved(mesh: usize) -> (stride_model::Model, GaitProblem, Vec<predi
         result,
     }];
     (model, problem, solved)
+}
+
+/// `x` with the states at the last collocation point of each interval set to those of the
+/// next mesh point (the same instant), as in any solution: the guess holds each interval's
+/// states constant, so its forces at the end of an interval would act where the feet were
+/// at its start.
+#[allow(dead_code)]
+pub fn continuous(problem: &GaitProblem, x: &mut [f64]) {
+    let l = &problem.layout;
+    for k in 0..l.n {
+        let (c, m) = (Point::Col(k, 3), Point::Mesh(k + 1));
+        for i in 0..l.nq {
+            x[l.q(c, i)] = x[l.q(m, i)];
+            x[l.v(c, i)] = x[l.v(m, i)];
+        }
+        for i in 0..l.nm {
+            x[l.a(c, i)] = x[l.a(m, i)];
+            x[l.f(c, i)] = x[l.f(m, i)];
+        }
+        for i in 0..l.na {
+            x[l.arm(c, i)] = x[l.arm(m, i)];
+        }
+    }
 }
