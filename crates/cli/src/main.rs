@@ -8,6 +8,7 @@ mod model_cmd;
 mod model_load;
 mod paths_cmd;
 mod predict_cmd;
+mod progress;
 mod study_cmd;
 mod view_cmd;
 

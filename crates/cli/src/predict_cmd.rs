@@ -3,9 +3,7 @@
 use anyhow::{bail, Context};
 use clap::Args;
 use serde::Deserialize;
-use std::io::Write;
 use std::path::PathBuf;
-use std::sync::Mutex;
 use std::time::Duration;
 use stride_ocp::guess::GuessKind;
 use stride_ocp::predict;
@@ -19,20 +17,22 @@ pub struct PredictArgs {
     /// `geometry`.
     #[arg(long)]
     pub config: Option<PathBuf>,
-    /// OpenSim model (default: the built-in subject model).
-    #[arg(long)]
+    /// OpenSim model file (.osim) [default: the built-in subject1 model of the paper].
+    #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
     /// Fitted muscle geometry of the model (`stride model fit --out`); default for an
     /// `.osim`: the per-user cache, fitted on first use.
     #[arg(long)]
     pub geometry: Option<PathBuf>,
-    /// Imposed average speed [m/s].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Imposed average forward speed [m/s] [default: 1.33].
+    #[arg(long, allow_hyphen_values = true, value_name = "M_PER_S")]
     pub speed: Option<f64>,
-    /// Mesh intervals.
-    #[arg(long)]
+    /// Mesh intervals per half gait cycle (the full cycle has twice as many) [default: 50].
+    #[arg(long, value_name = "INTERVALS")]
     pub mesh: Option<usize>,
-    /// Initial guesses, comma separated: quasi-random, data-informed-walking, data-informed-running.
+    /// Initial guesses, comma separated: quasi-random, data-informed-walking,
+    /// data-informed-running [default: quasi-random,data-informed-walking]; the lowest-cost
+    /// converged solution is kept.
     #[arg(long, value_delimiter = ',')]
     pub guess: Option<Vec<String>>,
     /// Solver backend: ipm (pure Rust, default) or ipopt (needs the `ipopt` feature).
@@ -42,26 +42,26 @@ pub struct PredictArgs {
     /// limited-memory, or exact.
     #[arg(long)]
     pub hessian: Option<String>,
-    /// Convergence tolerance.
+    /// Convergence tolerance of the scaled optimality conditions [default: 1e-4].
     #[arg(long)]
     pub tol: Option<f64>,
-    /// Iteration limit.
+    /// Iteration limit per solve [default: 3000].
     #[arg(long)]
     pub max_iter: Option<usize>,
-    /// Wall-time limit per solve [s].
-    #[arg(long)]
+    /// Wall-time limit per guess [s] [default: none].
+    #[arg(long, value_name = "SECONDS")]
     pub time_limit: Option<f64>,
     /// Centrality correctors per iteration (ipm only; default 2 with the hybrid Hessian,
     /// else 0).
     #[arg(long)]
     pub correctors: Option<usize>,
-    /// Coarse mesh of the presolve: each guess is first solved on this many intervals and
-    /// the requested mesh is solved from that optimum (default 10 when the mesh is finer;
-    /// 0: solve the requested mesh directly from the guess).
-    #[arg(long)]
+    /// Coarse mesh of the presolve, intervals per half cycle: each guess is first solved on
+    /// this mesh and the requested mesh is solved from that optimum [default: 10 when the
+    /// mesh is finer; 0: solve the requested mesh directly from the guess].
+    #[arg(long, value_name = "INTERVALS")]
     pub presolve_mesh: Option<usize>,
-    /// Output folder.
-    #[arg(long)]
+    /// Output folder, replaced when the prediction is complete [default: out/predict_<speed>].
+    #[arg(long, value_name = "FOLDER")]
     pub out: Option<PathBuf>,
     /// No progress output.
     #[arg(long)]
@@ -276,23 +276,10 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         .or(study.output)
         .unwrap_or_else(|| PathBuf::from(format!("out/predict_{:.2}", settings.speed)));
     let quiet = args.quiet;
-    let last = Mutex::new(std::time::Instant::now());
-    let progress = |g: GuessKind, r: &stride_solve::solver::IterationRecord| {
-        if quiet {
-            return;
-        }
-        let mut t = last.lock().unwrap_or_else(|e| e.into_inner());
-        if t.elapsed() > Duration::from_millis(500) {
-            *t = std::time::Instant::now();
-            eprint!(
-                "\r{g:<22} iter {:>5}  objective {:>12.5e}  inf_pr {:>8.2e}  inf_du {:>8.2e}  {:>7.1} s   ",
-                r.iter,
-                r.objective,
-                r.inf_pr,
-                r.inf_du,
-                r.elapsed.as_secs_f64()
-            );
-            let _ = std::io::stderr().flush();
+    let board = crate::progress::ProgressBoard::new(&guesses, options.tol / 10.0);
+    let progress = |src: predict::ProgressSource, r: &stride_solve::solver::IterationRecord| {
+        if !quiet {
+            board.update(src, r);
         }
     };
     let (problem, solved) = predict::solve_guesses(
@@ -305,7 +292,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         &progress,
     )?;
     if !quiet {
-        eprintln!();
+        board.finish();
     }
     let kept = predict::select(&solved);
     let summary = predict::write_results(&problem, &solved, kept, solver.name(), &options, &out)?;
@@ -328,7 +315,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
                 "{:<22} presolve on {} intervals: {} after {} iterations, objective {:.6}, {:.1} s{}",
                 "",
                 p.mesh_intervals,
-                p.status,
+                status_text(&p.status),
                 p.iterations,
                 p.objective,
                 p.time_total_s,
@@ -401,6 +388,15 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("need the ipm solver"), "{e}");
+    }
+}
+
+/// A solver status as the user reads it: the coarse solve's `MuFloor` (stopped on purpose
+/// once the barrier parameter reached its floor, near the coarse optimum) is "near optimal".
+fn status_text(status: &str) -> &str {
+    match status {
+        "MuFloor" => "near optimal (stopped for the final mesh)",
+        other => other,
     }
 }
 

@@ -220,8 +220,7 @@ fn print_series(report: &analysis::Report) {
 /// The model of a study: its `model` file, else the built-in model.
 fn study_model(path: Option<&Path>) -> anyhow::Result<stride_model::Model> {
     Ok(match path {
-        Some(p) => stride_model::osim::load_osim(p)
-            .with_context(|| format!("loading model {}", p.display()))?,
+        Some(p) => stride_model::osim::load_osim(p).context("loading model")?,
         None => stride_model::default_model::default_model(),
     })
 }

@@ -18,6 +18,14 @@ use std::sync::OnceLock;
 /// The shipped default model, as stride JSON (see [`default_model_json`]).
 pub const DEFAULT_MODEL_JSON: &str = include_str!("../data/default_model.json");
 
+/// The built-in model as an OpenSim 4 model file, written into result folders as
+/// `model.osim`: `subject1_v2.osim` with the simulations' gravity, the 12 contact spheres as
+/// `SmoothSphereHalfSpaceForce` elements and the 8 arm torque actuators as
+/// `CoordinateActuator` elements (written by `tools/opensim_reference/default_model_osim.py`
+/// from `default_model.json`; the passive joint torques and the polynomial muscle geometry
+/// have no OpenSim element of the same form and are not in it).
+pub const DEFAULT_MODEL_OSIM: &str = include_str!("../data/default_model.osim");
+
 /// Gravity of the default model [m s⁻²]: the reference implementation's external
 /// function uses 9.81 (and the OCP a body weight of 62 kg × 9.81), not the 9.80665 written
 /// in the `.osim` file, so results stay comparable with the published ones.
@@ -51,6 +59,7 @@ pub fn default_model() -> Model {
 /// Build the default model from the reference folder (`shared/reference`).
 pub fn build_default_model(reference_dir: &Path) -> Result<Model, DefaultModelError> {
     let mut m = load_osim(&reference_dir.join("models/subject1_v2.osim"))?;
+    m.source_file = None;
     m.gravity = DEFAULT_GRAVITY;
     let expect = |what: &str, got: usize, want: usize| {
         if got == want {

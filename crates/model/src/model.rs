@@ -55,6 +55,10 @@ pub struct Model {
     /// `SpringGeneralizedForce`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub coordinate_forces: Vec<CoordinateForce>,
+    /// The OpenSim model file this model was imported from (result folders ship a copy of
+    /// it); `None` for the built-in model and for models built in code.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source_file: Option<std::path::PathBuf>,
 }
 
 /// A rigid body.
@@ -598,6 +602,7 @@ impl Default for Model {
             ligaments: Vec::new(),
             couplers: Vec::new(),
             coordinate_forces: Vec::new(),
+            source_file: None,
         }
     }
 }

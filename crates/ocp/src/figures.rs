@@ -4,11 +4,12 @@
 //! files, shared by the CSV writer and the figures.
 //!
 //! Conventions (prediction and experiment alike): right leg, 0–100 % of the gait cycle from
-//! right heel strike; angles in degrees (OpenSim coordinate signs, e.g. knee flexion
-//! negative); torques in N m kg⁻¹ and powers in W kg⁻¹ (the experimental N m and W are
+//! right heel strike; angles in degrees with the sign each axis label states (OpenSim
+//! coordinate signs, except the knee, drawn with flexion positive; a torque has the sign of
+//! the motion it drives); torques in N m kg⁻¹ and powers in W kg⁻¹ (the experimental N m and W are
 //! divided by the subject's 62 kg, the prediction's by the model's body mass); ground
 //! reaction forces in % body weight in the ground frame (x forward, y up, z right).
-//! Experiment: mean ± 2 SD band. EMG: the mean envelope and its ± 2 SD band are multiplied
+//! Experiment: mean (line) inside its ± 2 SD band. EMG: the mean envelope and its ± 2 SD band are multiplied
 //! by one factor per muscle so that the mean's peak equals the peak predicted activation
 //! (the paper scales each trial to that peak; only the mean and SD over trials are shipped).
 
@@ -37,6 +38,8 @@ pub struct CycleTables {
     pub body_mass: f64,
     /// Coordinate names, problem order.
     pub coordinates: Vec<String>,
+    /// Whether each coordinate is a rotation (else a translation).
+    pub rotational: Vec<bool>,
     /// Coordinates [deg for rotations, m for translations].
     pub angles: Vec<Vec<f64>>,
     /// Inverse-dynamics generalised forces [N m or N].
@@ -53,6 +56,8 @@ pub struct CycleTables {
     pub grf_labels: Vec<String>,
     /// Ground reaction forces [% body weight], columns as `grf_labels`.
     pub grf_bw: Vec<Vec<f64>>,
+    /// What was simulated, for figure titles: speed and mesh.
+    pub caption: String,
     /// Torso rotation about the ground forward axis [deg] (its range is the trunk sway);
     /// `None` for a model without a `torso` body.
     pub trunk_sway: Option<Vec<f64>>,
@@ -91,6 +96,11 @@ impl CycleTables {
             time: cycle.time.clone(),
             body_mass: problem.body_mass,
             coordinates: g.coordinates.iter().map(|c| c.name.clone()).collect(),
+            rotational: g
+                .coordinates
+                .iter()
+                .map(|c| c.motion_type == MotionType::Rotational)
+                .collect(),
             angles,
             torques: cycle.torque.clone(),
             powers,
@@ -103,9 +113,10 @@ impl CycleTables {
             excitations: problem.excitations(cycle),
             grf_labels: ["right", "left"]
                 .iter()
-                .flat_map(|s| ["x", "y", "z"].map(|k| format!("{s}_{k}_pct_bw")))
+                .flat_map(|s| ["x", "y", "z"].map(|k| format!("{s}_{k}")))
                 .collect(),
             grf_bw,
+            caption: caption(&problem.settings),
             trunk_sway: problem
                 .trunk_frontal_angles(&cycle.q)
                 .ok()
@@ -147,6 +158,18 @@ impl CycleTables {
     }
 }
 
+/// Speed and mesh of a prediction as figure titles state them.
+fn caption(s: &crate::settings::ProblemSettings) -> String {
+    let per = match s.cycle {
+        crate::settings::CycleKind::HalfSymmetric => "per half cycle",
+        crate::settings::CycleKind::FullPeriodic => "per cycle",
+    };
+    format!(
+        "{:.2} m/s, {} mesh intervals {per}",
+        s.speed, s.mesh_intervals
+    )
+}
+
 /// Why the figures could not be produced.
 #[derive(Debug, thiserror::Error)]
 pub enum FigureError {
@@ -177,8 +200,11 @@ struct PanelSpec {
     quantity: &'static str,
     /// Reference channel.
     channel: &'static str,
-    /// y-axis label with unit.
+    /// y-axis label: the sign convention and the unit.
     unit: &'static str,
+    /// Factor from the coordinate's sign to the drawn one (−1 for the knee, drawn with
+    /// flexion positive).
+    sign: f64,
 }
 
 const fn spec(
@@ -192,59 +218,127 @@ const fn spec(
         quantity,
         channel,
         unit,
+        sign: 1.0,
     }
 }
 
+/// A panel drawn with the opposite of the coordinate's sign.
+const fn flipped(s: PanelSpec) -> PanelSpec {
+    PanelSpec { sign: -1.0, ..s }
+}
+
 const DEG: &str = "angle [deg]";
-const NMKG: &str = "torque [N m/kg]";
-const WKG: &str = "power [W/kg]";
-const BW: &str = "force [% BW]";
 
 /// Joint-angle panels (right leg and trunk).
 const KINEMATICS: [PanelSpec; 12] = [
     spec("Pelvis tilt", "joint_angles", "pelvis_tilt", DEG),
     spec("Pelvis list", "joint_angles", "pelvis_list", DEG),
     spec("Pelvis rotation", "joint_angles", "pelvis_rotation", DEG),
-    spec("Hip flexion", "joint_angles", "hip_flexion", DEG),
-    spec("Hip adduction", "joint_angles", "hip_adduction", DEG),
-    spec("Hip rotation", "joint_angles", "hip_rotation", DEG),
     spec(
-        "Knee angle (flexion < 0)",
+        "Hip flexion",
+        "joint_angles",
+        "hip_flexion",
+        "flexion + [deg]",
+    ),
+    spec(
+        "Hip adduction",
+        "joint_angles",
+        "hip_adduction",
+        "adduction + [deg]",
+    ),
+    spec(
+        "Hip rotation",
+        "joint_angles",
+        "hip_rotation",
+        "internal rotation + [deg]",
+    ),
+    flipped(spec(
+        "Knee flexion",
         "joint_angles",
         "knee_angle",
-        DEG,
-    ),
+        "flexion + [deg]",
+    )),
     spec(
-        "Ankle angle (dorsiflexion > 0)",
+        "Ankle angle",
         "joint_angles",
         "ankle_angle",
-        DEG,
+        "dorsiflexion + [deg]",
     ),
-    spec("Subtalar angle", "joint_angles", "subtalar_angle", DEG),
-    spec("Lumbar extension", "joint_angles", "lumbar_extension", DEG),
+    spec(
+        "Subtalar angle",
+        "joint_angles",
+        "subtalar_angle",
+        "inversion + [deg]",
+    ),
+    spec(
+        "Lumbar extension",
+        "joint_angles",
+        "lumbar_extension",
+        "extension + [deg]",
+    ),
     spec("Lumbar bending", "joint_angles", "lumbar_bending", DEG),
     spec("Lumbar rotation", "joint_angles", "lumbar_rotation", DEG),
 ];
 
 /// Torque, power and ground-reaction-force panels.
 const KINETICS: [PanelSpec; 12] = [
-    spec("Hip flexion torque", "joint_torques", "hip_flexion", NMKG),
+    spec(
+        "Hip flexion torque",
+        "joint_torques",
+        "hip_flexion",
+        "flexion + [N m/kg]",
+    ),
     spec(
         "Hip adduction torque",
         "joint_torques",
         "hip_adduction",
-        NMKG,
+        "adduction + [N m/kg]",
     ),
-    spec("Hip rotation torque", "joint_torques", "hip_rotation", NMKG),
-    spec("Knee torque", "joint_torques", "knee_angle", NMKG),
-    spec("Ankle torque", "joint_torques", "ankle_angle", NMKG),
-    spec("Subtalar torque", "joint_torques", "subtalar_angle", NMKG),
-    spec("Hip flexion power", "joint_powers", "hip_flexion", WKG),
-    spec("Knee power", "joint_powers", "knee_angle", WKG),
-    spec("Ankle power", "joint_powers", "ankle_angle", WKG),
-    spec("GRF fore-aft (x)", "grf", "fore_aft", BW),
-    spec("GRF vertical (y)", "grf", "vertical", BW),
-    spec("GRF lateral (z)", "grf", "lateral", BW),
+    spec(
+        "Hip rotation torque",
+        "joint_torques",
+        "hip_rotation",
+        "internal rotation + [N m/kg]",
+    ),
+    flipped(spec(
+        "Knee torque",
+        "joint_torques",
+        "knee_angle",
+        "flexion + [N m/kg]",
+    )),
+    spec(
+        "Ankle torque",
+        "joint_torques",
+        "ankle_angle",
+        "dorsiflexion + [N m/kg]",
+    ),
+    spec(
+        "Subtalar torque",
+        "joint_torques",
+        "subtalar_angle",
+        "inversion + [N m/kg]",
+    ),
+    spec(
+        "Hip flexion power",
+        "joint_powers",
+        "hip_flexion",
+        "generation + [W/kg]",
+    ),
+    spec(
+        "Knee power",
+        "joint_powers",
+        "knee_angle",
+        "generation + [W/kg]",
+    ),
+    spec(
+        "Ankle power",
+        "joint_powers",
+        "ankle_angle",
+        "generation + [W/kg]",
+    ),
+    spec("GRF fore-aft", "grf", "fore_aft", "forward + [% BW]"),
+    spec("GRF vertical", "grf", "vertical", "upward + [% BW]"),
+    spec("GRF lateral", "grf", "lateral", "rightward + [% BW]"),
 ];
 
 /// Activation panels: (title, model muscle, EMG channel or "" when the paper shows none).
@@ -283,6 +377,51 @@ fn reference_factor(unit: &str) -> f64 {
         _ => 1.0,
     }
 }
+
+/// Colour of the experimental mean line.
+const EXPERIMENT_MEAN_COLOR: Color = Color::rgb(90, 90, 90);
+
+/// The experimental mean of a channel times `factor` as a line, drawn inside its band.
+fn reference_mean(
+    reference: &WalkingReference,
+    quantity: &str,
+    channel: &str,
+    factor: f64,
+    label: &str,
+) -> Option<Series> {
+    let c = reference.quantities.get(quantity)?.get(channel)?;
+    if c.mean.is_empty() {
+        return None;
+    }
+    let mean: Vec<f64> = c.mean.iter().map(|v| v * factor).collect();
+    Some(
+        Series::new(reference_percent(mean.len()), mean, EXPERIMENT_MEAN_COLOR)
+            .width(1.2)
+            .dash(vec![5.0, 3.0])
+            .label(label),
+    )
+}
+
+/// The experimental mean line and ± 2 SD band of a channel (times `factor`) added to `p`.
+fn with_reference(
+    p: Panel,
+    reference: &WalkingReference,
+    (quantity, channel): (&str, &str),
+    factor: f64,
+    (mean_label, band_label): (&str, &str),
+) -> Panel {
+    let mut p = p;
+    if let Some(b) = reference_band(reference, quantity, channel, factor, band_label) {
+        p = p.band(b);
+    }
+    if let Some(m) = reference_mean(reference, quantity, channel, factor, mean_label) {
+        p = p.line(m);
+    }
+    p
+}
+
+/// Labels of the experimental mean and band of the walking data.
+const EXPERIMENT: (&str, &str) = ("experiment, mean", "experiment, ± 2 SD");
 
 /// Experimental band of a channel: mean ± BAND_SD·SD times `factor`.
 fn reference_band(
@@ -342,28 +481,44 @@ fn spec_panels(t: &CycleTables, reference: &WalkingReference, specs: &[PanelSpec
                 "joint_powers" => (&t.powers, t.coordinate_index(s.channel), per_kg),
                 _ => (&t.angles, t.coordinate_index(s.channel), 1.0),
             };
-            let mut p = base_panel(s.title, s.unit);
+            // powers keep their sign: torque and speed both change theirs
+            let sign = if s.quantity == "joint_powers" {
+                1.0
+            } else {
+                s.sign
+            };
             let unit = reference
                 .quantities
                 .get(s.quantity)
                 .and_then(|q| q.get(s.channel))
                 .map(|c| c.unit.clone())
                 .unwrap_or_default();
-            if let Some(b) = reference_band(
-                reference,
-                s.quantity,
-                s.channel,
-                reference_factor(&unit),
-                "experiment (mean ± 2 SD)",
-            ) {
-                p = p.band(b);
-            }
+            let mut p = base_panel(s.title, s.unit);
             if let Some(col) = col {
-                p = p.line(prediction(&x, CycleTables::column(rows, col, factor)));
+                p = p.line(prediction(
+                    &x,
+                    CycleTables::column(rows, col, sign * factor),
+                ));
+            }
+            p = with_reference(
+                p,
+                reference,
+                (s.quantity, s.channel),
+                sign * reference_factor(&unit),
+                EXPERIMENT,
+            );
+            if s.channel == "vertical" {
+                p = from_zero(p);
             }
             p
         })
         .collect()
+}
+
+/// `p` with its y axis from 0 to above its highest value (a force that only pushes).
+fn from_zero(p: Panel) -> Panel {
+    let hi = p.data_range().1.map_or(1.0, |(_, hi)| hi.max(1e-9));
+    p.y_limits(0.0, 1.05 * hi)
 }
 
 /// Activation panels with EMG scaled to the peak predicted activation.
@@ -379,7 +534,9 @@ fn activation_panels(t: &CycleTables, reference: &WalkingReference) -> Vec<Panel
                 .copied()
                 .filter(|v| v.is_finite())
                 .fold(0.0, f64::max);
-            let mut p = base_panel(title, "activation [-]");
+            let mut p = base_panel(title, "activation [0–1]")
+                .y_limits(0.0, 1.0)
+                .line(prediction(&x, a));
             let emg = reference.quantities.get("emg").and_then(|q| q.get(channel));
             if let Some(c) = emg {
                 let peak_e = c
@@ -394,15 +551,24 @@ fn activation_panels(t: &CycleTables, reference: &WalkingReference) -> Vec<Panel
                         "emg",
                         channel,
                         peak_a / peak_e,
-                        "EMG, scaled to the peak activation (mean ± 2 SD, ≥ 0)",
+                        "EMG scaled to the peak activation, ± 2 SD (≥ 0)",
                     ) {
                         // Envelopes are non-negative: mean − 2 SD is cut at zero.
                         b.lower.iter_mut().for_each(|v| *v = v.max(0.0));
                         p = p.band(b);
                     }
+                    if let Some(m) = reference_mean(
+                        reference,
+                        "emg",
+                        channel,
+                        peak_a / peak_e,
+                        "EMG scaled to the peak activation, mean",
+                    ) {
+                        p = p.line(m);
+                    }
                 }
             }
-            Some(p.line(prediction(&x, a)))
+            Some(p)
         })
         .collect()
 }
@@ -438,20 +604,17 @@ fn grid(title: &str, panels: Vec<Panel>, cols: usize, cell: (u32, u32)) -> Figur
 fn trunk_panel(t: &CycleTables, reference: &WalkingReference) -> Option<Panel> {
     let sway = t.trunk_sway.as_ref()?;
     let rows: Vec<Vec<f64>> = sway.iter().map(|&v| vec![v]).collect();
-    let mut p = base_panel("Trunk sway", DEG);
-    if let Some(b) = reference_band(
-        reference,
-        "trunk_sway",
-        "trunk_sway",
-        1.0,
-        "experiment (mean ± 2 SD)",
-    ) {
-        p = p.band(b);
-    }
-    Some(p.line(prediction(
+    let p = base_panel("Trunk sway", DEG).line(prediction(
         &t.percent_closed(),
         CycleTables::column(&rows, 0, 1.0),
-    )))
+    ));
+    Some(with_reference(
+        p,
+        reference,
+        ("trunk_sway", "trunk_sway"),
+        1.0,
+        EXPERIMENT,
+    ))
 }
 
 /// Rows of `rows` rotated to start at sample `start` (periodic cycle).
@@ -479,16 +642,16 @@ pub fn prosthesis_figure(t: &CycleTables, reference: &WalkingReference) -> Optio
     };
     let (ar, al) = (ankle("r")?, ankle("l")?);
     let (sr, sl) = (strike(1)?, strike(4)?);
-    let mut p = base_panel("Ankle torque from heel strike", NMKG);
-    if let Some(b) = reference_band(
+    let mut p = with_reference(
+        base_panel("Ankle torque from heel strike", "dorsiflexion + [N m/kg]"),
         reference,
-        "prosthesis",
-        "ankle_torque",
+        ("prosthesis", "ankle_torque"),
         1.0,
-        "amputees, affected side (Quesada et al. 2016, mean ± 2 SD)",
-    ) {
-        p = p.band(b);
-    }
+        (
+            "amputees, affected side (Quesada et al. 2016), mean",
+            "amputees, affected side (Quesada et al. 2016), ± 2 SD",
+        ),
+    );
     let affected = CycleTables::column(&rotated(&t.torques, sr), ar, per_kg);
     let unaffected = CycleTables::column(&rotated(&t.torques, sl), al, per_kg);
     p = p
@@ -501,7 +664,7 @@ pub fn prosthesis_figure(t: &CycleTables, reference: &WalkingReference) -> Optio
     Some(NamedFigure {
         name: "figure_prosthesis",
         figure: grid(
-            "Passive prosthesis: ankle torques, negative = plantarflexion",
+            &format!("Passive prosthesis: ankle torques ({})", t.caption),
             vec![p],
             1,
             (640, 420),
@@ -519,7 +682,10 @@ pub fn gait_figures(t: &CycleTables, reference: &WalkingReference) -> Vec<NamedF
         NamedFigure {
             name: "figure_kinematics",
             figure: grid(
-                "Joint angles, right leg: prediction vs experiment",
+                &format!(
+                    "Joint angles, right leg: prediction vs experiment ({})",
+                    t.caption
+                ),
                 kinematics,
                 3,
                 cell,
@@ -528,7 +694,10 @@ pub fn gait_figures(t: &CycleTables, reference: &WalkingReference) -> Vec<NamedF
         NamedFigure {
             name: "figure_kinetics",
             figure: grid(
-                "Joint torques, powers and ground reaction forces, right leg",
+                &format!(
+                    "Joint torques, powers and ground reaction forces, right leg ({})",
+                    t.caption
+                ),
                 spec_panels(t, reference, &KINETICS),
                 3,
                 cell,
@@ -537,7 +706,7 @@ pub fn gait_figures(t: &CycleTables, reference: &WalkingReference) -> Vec<NamedF
         NamedFigure {
             name: "figure_activations",
             figure: grid(
-                "Muscle activations, right leg (EMG scaled to the peak activation)",
+                &format!("Muscle activations, right leg ({})", t.caption),
                 activation_panels(t, reference),
                 4,
                 cell,
@@ -625,6 +794,8 @@ mod tests {
                 })
                 .collect(),
             excitations: Vec::new(),
+            rotational: Vec::new(),
+            caption: String::new(),
             grf_labels: Vec::new(),
             grf_bw: (0..n)
                 .map(|i| {
@@ -668,7 +839,7 @@ mod tests {
         let f = prosthesis_figure(&t, &r).unwrap();
         f.figure.validate().unwrap();
         let p = &f.figure.panels[0];
-        assert_eq!((p.series.len(), p.bands.len()), (2, 1));
+        assert_eq!((p.series.len(), p.bands.len()), (3, 1));
         let b = &p.bands[0];
         for s in &p.series {
             for i in 0..n {
@@ -696,7 +867,8 @@ mod tests {
             f.figure.validate().unwrap();
             for p in &f.figure.panels {
                 assert!(p.has_data(), "{}: {}", f.name, p.title);
-                assert_eq!(p.series.len(), 1, "{}: {}", f.name, p.title);
+                // the prediction, and the experimental mean with its band
+                assert_eq!(p.series.len(), 1 + p.bands.len(), "{}: {}", f.name, p.title);
                 let has_emg = MUSCLES.iter().any(|m| m.0 == p.title && !m.2.is_empty());
                 if f.name != "figure_activations" || has_emg {
                     assert_eq!(p.bands.len(), 1, "{}: {} has no band", f.name, p.title);
@@ -777,6 +949,8 @@ mod tests {
             muscles: vec!["soleus_r".into()],
             activations: vec![vec![0.1], vec![0.5], vec![0.2]],
             excitations: Vec::new(),
+            rotational: Vec::new(),
+            caption: String::new(),
             grf_labels: Vec::new(),
             grf_bw: vec![vec![0.0; 6]; 3],
             trunk_sway: None,
@@ -784,10 +958,11 @@ mod tests {
         let figs = gait_figures(&t, &r);
         let knee = &figs[0].figure.panels[6];
         assert!(knee.bands.is_empty());
-        assert_eq!(knee.series[0].y, vec![-10.0, -40.0, -5.0, -10.0]);
+        // drawn with flexion positive
+        assert_eq!(knee.series[0].y, vec![10.0, 40.0, 5.0, 10.0]);
         assert_eq!(knee.series[0].x, vec![0.0, 100.0 / 3.0, 200.0 / 3.0, 100.0]);
         // Torque per kg.
-        assert!((figs[1].figure.panels[3].series[0].y[1] + 14.0 / 70.0).abs() < 1e-15);
+        assert!((figs[1].figure.panels[3].series[0].y[1] - 14.0 / 70.0).abs() < 1e-15);
         // Channels the model lacks have no line; muscles the model lacks have no panel.
         assert!(figs[0].figure.panels[3].series.is_empty());
         assert_eq!(figs[2].figure.panels.len(), 1);

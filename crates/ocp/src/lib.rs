@@ -4,6 +4,7 @@
 //! - [`gait`]: the gait view of a model (coordinate roles, mirror maps).
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
+//! - [`outputs`]: the files of a result folder (OpenSim files, tables).
 //! - [`measures`]: trunk sway and stance measures compared between conditions.
 //! - [`bench`]: timing of the NLP derivatives (`stride bench derivatives`).
 
@@ -18,6 +19,7 @@ mod jacobian_fill;
 pub mod layout;
 pub mod measures;
 pub mod node;
+pub mod outputs;
 pub mod predict;
 pub mod problem;
 pub mod radau;

@@ -441,6 +441,10 @@ pub struct SampleOutputs {
     pub metabolic_bhargava: Vec<f64>,
     /// Tendon force per problem muscle [N] (0 for removed muscles).
     pub tendon_force: Vec<f64>,
+    /// Fibre length per problem muscle [m] (0 for removed muscles).
+    pub fiber_length: Vec<f64>,
+    /// Fibre lengthening velocity per problem muscle [m s⁻¹] (0 for removed muscles).
+    pub fiber_velocity: Vec<f64>,
     /// Passive torque per problem coordinate (0 where none) [N m].
     pub passive: Vec<f64>,
 }
@@ -480,8 +484,12 @@ impl NodeModel {
             if self.removed[m] {
                 out.metabolic.push(0.0);
                 out.metabolic_bhargava.push(0.0);
+                out.fiber_length.push(0.0);
+                out.fiber_velocity.push(0.0);
                 continue;
             }
+            out.fiber_length.push(h.fiber_length);
+            out.fiber_velocity.push(h.fiber_velocity);
             out.metabolic
                 .push(self.metabolic.rate(&self.hill[m], a, &h).total);
             out.metabolic_bhargava.push(

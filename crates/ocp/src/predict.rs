@@ -3,7 +3,6 @@
 
 use crate::data;
 use crate::experimental::Kinematics;
-use crate::figures::{self, CycleTables};
 use crate::guess::{GuessKind, InitialGuess};
 use crate::node::NodeModel;
 use crate::problem::{GaitProblem, ProblemError};
@@ -17,7 +16,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use stride_model::storage::{replace_dir, write_atomic, Storage};
-use stride_model::{Model, MotionType};
+use stride_model::Model;
 use stride_solve::solver::{
     ControlFlow, HessianMode, IterationRecord, SolveResult, Solver, SolverOptions,
 };
@@ -136,6 +135,8 @@ pub struct Summary {
     pub settings: ProblemSettings,
     /// Number of NLP variables and constraints.
     pub nlp_size: [usize; 2],
+    /// Unit of every physical quantity in this file, by key.
+    pub units: std::collections::BTreeMap<&'static str, &'static str>,
 }
 
 /// One solved guess with its solution.
@@ -369,18 +370,37 @@ pub struct Stage<'a> {
     pub x0: Vec<f64>,
 }
 
+/// The mesh a solver iteration belongs to, with its number of intervals: the coarse mesh of
+/// a presolve, or the requested (final) mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshStage {
+    /// The coarse mesh whose optimum starts the final solve.
+    Coarse(usize),
+    /// The requested mesh.
+    Final(usize),
+}
+
+/// Where an iteration reported to the progress callback of [`solve_guesses`] comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ProgressSource {
+    /// The initial guess being solved.
+    pub guess: GuessKind,
+    /// The mesh being solved.
+    pub stage: MeshStage,
+}
+
 /// Solves `coarse` from its starting point, then `fine` from the resampled coarse optimum
 /// (warm) or, if the coarse solve failed, from `fine.x0` (cold). The time limit of `options`
 /// covers both solves; the report names `guess` and records the coarse solve. `progress`
-/// sees one count: the fine solve's iterations numbered after the coarse ones, with the
-/// time since the coarse solve started.
+/// gets each iteration with its mesh; iterations and times count from the start of that
+/// mesh's solve.
 pub fn solve_presolved(
     coarse: Stage,
     fine: Stage,
     guess: InitialGuess,
     solver: &(dyn Solver + Sync),
     options: &SolverOptions,
-    progress: &(dyn Fn(&IterationRecord) + Sync),
+    progress: &(dyn Fn(MeshStage, &IterationRecord) + Sync),
 ) -> Result<Solved, PredictError> {
     let start = std::time::Instant::now();
     // the coarse optimum is only a starting point: a hybrid solve stops where μ reaches
@@ -389,13 +409,14 @@ pub fn solve_presolved(
         stop_at_mu_floor: options.exact_hessian_tail,
         ..options.clone()
     };
+    let coarse_stage = MeshStage::Coarse(coarse.problem.layout.n);
     let r = solve_from(
         coarse.problem,
         coarse.tape,
         coarse.x0,
         solver,
         &coarse_options,
-        progress,
+        &|rec| progress(coarse_stage, rec),
     )?;
     let used = r.status.is_usable_start();
     let (x0, fine_options) = if used {
@@ -422,24 +443,10 @@ pub fn solve_presolved(
             .map(|t| t.saturating_sub(start.elapsed())),
         ..fine_options
     };
-    // progress counts on: the fine iterations after the coarse ones, the time from the start
-    // of the guess (the logs keep each solve's own numbering)
-    let (offset, before) = (r.iterations, start.elapsed());
-    let fine_progress = |rec: &IterationRecord| {
-        progress(&IterationRecord {
-            iter: rec.iter + offset,
-            elapsed: rec.elapsed + before,
-            ..rec.clone()
-        })
-    };
-    let rf = solve_from(
-        fine.problem,
-        fine.tape,
-        x0,
-        solver,
-        &fine_options,
-        &fine_progress,
-    )?;
+    let fine_stage = MeshStage::Final(fine.problem.layout.n);
+    let rf = solve_from(fine.problem, fine.tape, x0, solver, &fine_options, &|rec| {
+        progress(fine_stage, rec)
+    })?;
     let mut solved = Solved {
         report: GuessReport::new(guess, &rf),
         result: rf,
@@ -451,7 +458,8 @@ pub fn solve_presolved(
 /// Solve `model` with `settings` from each guess with `solver`, the guesses at the same time,
 /// each with `options.threads` evaluation threads; with `presolve`, each guess is first
 /// solved on that coarser mesh ([`Presolve`]; ignored when it is not coarser than
-/// `settings.mesh_intervals`). `progress` receives every iteration of every guess.
+/// `settings.mesh_intervals`). `progress` receives every iteration of every guess, with the
+/// guess and the mesh it belongs to.
 pub fn solve_guesses(
     model: &Model,
     settings: &ProblemSettings,
@@ -459,7 +467,7 @@ pub fn solve_guesses(
     presolve: Option<Presolve>,
     solver: &(dyn Solver + Sync),
     options: &SolverOptions,
-    progress: &(dyn Fn(GuessKind, &IterationRecord) + Sync),
+    progress: &(dyn Fn(ProgressSource, &IterationRecord) + Sync),
 ) -> Result<(GaitProblem, Vec<Solved>), PredictError> {
     let problem = GaitProblem::new(model, settings, &bounds_data(settings))?;
     let x0s = guesses
@@ -491,7 +499,9 @@ pub fn solve_guesses(
             .map(|(i, (&g, x0))| {
                 let (problem, tape, coarse) = (&problem, tape.clone(), coarse.as_ref());
                 scope.spawn(move || {
-                    let progress = |rec: &IterationRecord| progress(g, rec);
+                    let progress = |stage, rec: &IterationRecord| {
+                        progress(ProgressSource { guess: g, stage }, rec)
+                    };
                     match coarse {
                         Some((cp, ct, starts)) => solve_presolved(
                             Stage {
@@ -506,6 +516,8 @@ pub fn solve_guesses(
                             &progress,
                         ),
                         None => {
+                            let stage = MeshStage::Final(problem.layout.n);
+                            let progress = |rec: &IterationRecord| progress(stage, rec);
                             let r = solve_from(problem, tape, x0, solver, options, &progress)?;
                             Ok(Solved {
                                 report: GuessReport::new(g, &r),
@@ -605,7 +617,7 @@ pub fn write_results(
             let mesh = problem.mesh_solution(&node, &solved[k].result.x)?;
             let cycle = problem.gait_cycle(&mesh);
             outcomes = Some(problem.outcomes(&node, &mesh, &cycle)?);
-            write_cycle(problem, &node, &cycle, &tmp)?;
+            crate::outputs::write_cycle(problem, &node, &cycle, &tmp)?;
             let x = &solved[k].result.x;
             write_solution(&tmp, &SolutionFile::new(&problem.settings, x, &cycle))?;
         }
@@ -617,6 +629,7 @@ pub fn write_results(
             outcomes,
             settings: problem.settings.clone(),
             nlp_size: [problem.layout.len(), 0],
+            units: crate::outputs::summary_units(),
         };
         let p = tmp.join("summary.json");
         let json = serde_json::to_string_pretty(&summary).map_err(|e| write_err(&p, e))?;
@@ -681,9 +694,11 @@ pub fn rewrite_results(
     let tmp = sibling_dir(out, "rewrite")?;
     let result = (|| {
         copy_tree(out, &tmp)?;
-        write_cycle(problem, &node, &cycle, &tmp)?;
+        crate::outputs::write_cycle(problem, &node, &cycle, &tmp)?;
         summary["outcomes"] =
             serde_json::to_value(&outcomes).map_err(|e| write_err(&summary_path, e))?;
+        summary["units"] = serde_json::to_value(crate::outputs::summary_units())
+            .map_err(|e| write_err(&summary_path, e))?;
         let p = tmp.join("summary.json");
         let json = serde_json::to_string_pretty(&summary).map_err(|e| write_err(&p, e))?;
         write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
@@ -703,144 +718,6 @@ fn copy_tree(from: &Path, to: &Path) -> Result<(), PredictError> {
         } else {
             std::fs::copy(entry.path(), &dst).map_err(|e| write_err(&dst, e))?;
         }
-    }
-    Ok(())
-}
-
-fn csv(labels: &[String], time: &[f64], rows: &[Vec<f64>]) -> String {
-    let mut s = String::from("time");
-    for l in labels {
-        s.push(',');
-        s.push_str(l);
-    }
-    s.push('\n');
-    for (t, r) in time.iter().zip(rows) {
-        let _ = write!(s, "{t}");
-        for v in r {
-            let _ = write!(s, ",{v}");
-        }
-        s.push('\n');
-    }
-    s
-}
-
-/// Write the motion, ground reaction forces and tables of a reconstructed cycle.
-fn write_cycle(
-    problem: &GaitProblem,
-    node: &NodeModel,
-    cycle: &Trajectory,
-    dir: &Path,
-) -> Result<(), PredictError> {
-    let model = &problem.model;
-    let g = &problem.gait;
-    let to_user = |i: usize, v: f64| {
-        if g.coordinates[i].motion_type == MotionType::Rotational {
-            v.to_degrees()
-        } else {
-            v
-        }
-    };
-    // Motion: every model coordinate (locked ones at their value) and activations.
-    let mut labels = vec!["time".to_string()];
-    labels.extend(model.coordinates.iter().map(|c| c.name.clone()));
-    labels.extend(
-        g.muscles
-            .iter()
-            .map(|&m| format!("{}/activation", model.muscles[m].name)),
-    );
-    let rows: Vec<Vec<f64>> = (0..cycle.time.len())
-        .map(|s| {
-            let mut row = vec![cycle.time[s]];
-            for (c, coord) in model.coordinates.iter().enumerate() {
-                let v = match g.coordinates.iter().position(|gc| gc.model_index == c) {
-                    Some(i) => to_user(i, cycle.q[s][i]),
-                    None if coord.motion_type == MotionType::Rotational => {
-                        coord.default_value.to_degrees()
-                    }
-                    None => coord.default_value,
-                };
-                row.push(v);
-            }
-            row.extend(&cycle.activation[s]);
-            row
-        })
-        .collect();
-    let motion = Storage {
-        name: "motion".into(),
-        in_degrees: Some(true),
-        labels,
-        rows,
-    };
-    let p = dir.join("motion.mot");
-    motion.write(&p).map_err(|e| write_err(&p, e))?;
-    // Ground reaction forces with centre of pressure and free moment per foot.
-    let mut labels = vec!["time".to_string()];
-    for side in ["r", "l"] {
-        for k in ["vx", "vy", "vz", "px", "py", "pz"] {
-            labels.push(format!("{side}_ground_force_{k}"));
-        }
-    }
-    for side in ["r", "l"] {
-        for k in ["x", "y", "z"] {
-            labels.push(format!("{side}_ground_torque_{k}"));
-        }
-    }
-    let rows: Vec<Vec<f64>> = (0..cycle.time.len())
-        .map(|s| {
-            let mut row = vec![cycle.time[s]];
-            let mut torques = Vec::new();
-            for (f, m) in [
-                (cycle.grf_right[s], cycle.grm_right[s]),
-                (cycle.grf_left[s], cycle.grm_left[s]),
-            ] {
-                let (cop, free) =
-                    stride_multibody::center_of_pressure(f, m, [0.0; 3], [0.0, 1.0, 0.0], 1e-3)
-                        .unwrap_or(([0.0; 3], 0.0));
-                row.extend(f);
-                row.extend(cop);
-                torques.extend([0.0, free, 0.0]);
-            }
-            row.extend(torques);
-            row
-        })
-        .collect();
-    let grf = Storage {
-        name: "ground_reaction_forces".into(),
-        in_degrees: Some(true),
-        labels,
-        rows,
-    };
-    let p = dir.join("grf.mot");
-    grf.write(&p).map_err(|e| write_err(&p, e))?;
-    // Tables (CSV) and figures, from the same post-processed quantities.
-    let t = CycleTables::new(problem, cycle);
-    let _ = node;
-    for (file, labels, rows) in [
-        ("joint_angles.csv", &t.coordinates, &t.angles),
-        ("joint_torques.csv", &t.coordinates, &t.torques),
-        ("joint_powers.csv", &t.coordinates, &t.powers),
-        ("activations.csv", &t.muscles, &t.activations),
-        ("excitations.csv", &t.muscles, &t.excitations),
-        ("grf.csv", &t.grf_labels, &t.grf_bw),
-    ] {
-        let p = dir.join(file);
-        write_atomic(&p, csv(labels, &t.time, rows).as_bytes()).map_err(|e| write_err(&p, e))?;
-    }
-    // Torso rotation about the forward axis over the cycle (its range is the trunk sway).
-    if let Some(angles) = &t.trunk_sway {
-        let rows: Vec<Vec<f64>> = angles.iter().map(|&a| vec![a]).collect();
-        let p = dir.join("trunk_sway.csv");
-        let text = csv(&["trunk_sway".to_string()], &t.time, &rows);
-        write_atomic(&p, text.as_bytes()).map_err(|e| write_err(&p, e))?;
-    }
-    let reference = data::walking_reference();
-    let mut figures = figures::gait_figures(&t, &reference);
-    if problem.settings.prosthesis.is_some() {
-        figures.extend(figures::prosthesis_figure(&t, &reference));
-    }
-    for (file, bytes) in figures::render_files(&figures).map_err(|e| write_err(dir, e))? {
-        let p = dir.join(file);
-        write_atomic(&p, &bytes).map_err(|e| write_err(&p, e))?;
     }
     Ok(())
 }

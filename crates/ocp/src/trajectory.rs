@@ -239,17 +239,22 @@ impl GaitProblem {
             s.arm_excitation.push(ma(&t.arm_excitation[k]));
             let flip_f = |f: [f64; 3]| [f[0], f[1], -f[2]];
             let flip_m = |f: [f64; 3]| [-f[0], -f[1], f[2]];
-            if mirrored {
-                s.grf_right.push(flip_f(t.grf_left[k]));
-                s.grf_left.push(flip_f(t.grf_right[k]));
-                s.grm_right.push(flip_m(t.grm_left[k]));
-                s.grm_left.push(flip_m(t.grm_right[k]));
+            let (fr, fl, mr, ml) = if mirrored {
+                (
+                    flip_f(t.grf_left[k]),
+                    flip_f(t.grf_right[k]),
+                    flip_m(t.grm_left[k]),
+                    flip_m(t.grm_right[k]),
+                )
             } else {
-                s.grf_right.push(t.grf_right[k]);
-                s.grf_left.push(t.grf_left[k]);
-                s.grm_right.push(t.grm_right[k]);
-                s.grm_left.push(t.grm_left[k]);
-            }
+                (t.grf_right[k], t.grf_left[k], t.grm_right[k], t.grm_left[k])
+            };
+            // The forces act where the shifted feet are: their moments about the ground
+            // origin move with them.
+            s.grf_right.push(fr);
+            s.grf_left.push(fl);
+            s.grm_right.push(moment_shifted_forward(mr, fr, shift));
+            s.grm_left.push(moment_shifted_forward(ml, fl, shift));
         } else {
             let mut q = mq(&t.q[k]);
             q[tx] += shift;
@@ -295,6 +300,14 @@ impl GaitProblem {
         let tx = self.gait.forward_translation;
         let x0 = out.q[0][tx];
         out.q.iter_mut().for_each(|q| q[tx] -= x0);
+        for (m, f) in out
+            .grm_right
+            .iter_mut()
+            .zip(&out.grf_right)
+            .chain(out.grm_left.iter_mut().zip(&out.grf_left))
+        {
+            *m = moment_shifted_forward(*m, *f, -x0);
+        }
         out
     }
 
@@ -315,6 +328,13 @@ impl GaitProblem {
             })
             .collect()
     }
+}
+
+/// Moment about the ground origin [N m] of a force `f` [N] whose moment about the origin is
+/// `m` [N m], after the force's point of application moved forward (ground x) by `dx` [m]:
+/// m + (dx, 0, 0) × f.
+pub fn moment_shifted_forward(m: [f64; 3], f: [f64; 3], dx: f64) -> [f64; 3] {
+    [m[0], m[1] - dx * f[2], m[2] + dx * f[1]]
 }
 
 /// The sample (control-type index `g` of the periodic extension) where the reconstructed
@@ -418,13 +438,13 @@ pub struct Outcomes {
 }
 
 impl GaitProblem {
-    /// Outcome measures of a reconstructed gait cycle.
-    pub fn outcomes(
+    /// The node model's physical quantities (muscle forces, fibre states, metabolic rates,
+    /// ...) at every sample of a reconstructed gait cycle.
+    pub fn cycle_samples(
         &self,
         node: &NodeModel,
-        m: &MeshSolution,
         cycle: &Trajectory,
-    ) -> Result<Outcomes, ProblemError> {
+    ) -> Result<Vec<SampleOutputs>, ProblemError> {
         let l = &self.layout;
         let s = &self.scaling;
         let io = NodeInputs {
@@ -433,11 +453,7 @@ impl GaitProblem {
             na: l.na,
         };
         let mut ws = node.workspace::<f64>()?;
-        let ns = cycle.time.len();
-        let mut e_bh = Vec::with_capacity(ns);
-        let mut e_cost = Vec::with_capacity(ns);
-        let basal = 1.2 * self.body_mass;
-        for i in 0..ns {
+        let samples = (0..cycle.time.len()).map(|i| {
             let mut xin = vec![0.0; io.len()];
             for k in 0..l.nm {
                 xin[io.a() + k] = cycle.activation[i][k];
@@ -449,7 +465,24 @@ impl GaitProblem {
                 xin[io.v() + k] = cycle.v[i][k] / s.v[k];
                 xin[io.qdd() + k] = cycle.qdd[i][k] / s.a[k];
             }
-            let out = node.sample(&mut ws, &xin);
+            node.sample(&mut ws, &xin)
+        });
+        Ok(samples.collect())
+    }
+
+    /// Outcome measures of a reconstructed gait cycle.
+    pub fn outcomes(
+        &self,
+        node: &NodeModel,
+        m: &MeshSolution,
+        cycle: &Trajectory,
+    ) -> Result<Outcomes, ProblemError> {
+        let l = &self.layout;
+        let ns = cycle.time.len();
+        let mut e_bh = Vec::with_capacity(ns);
+        let mut e_cost = Vec::with_capacity(ns);
+        let basal = 1.2 * self.body_mass;
+        for out in self.cycle_samples(node, cycle)? {
             e_bh.push(basal + out.metabolic_bhargava.iter().sum::<f64>());
             e_cost.push(basal + out.metabolic.iter().sum::<f64>());
         }

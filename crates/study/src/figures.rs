@@ -20,12 +20,15 @@ fn fit_curve(f: &Fit, lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     (x, y)
 }
 
-/// A column of a case's CSV table over the gait cycle: (% cycle, values).
+/// A column of a case's CSV table over the gait cycle: (% cycle, values). `column` is the
+/// name without the unit the header gives it (`knee_angle_r` for `knee_angle_r [deg]`).
 pub(crate) fn cycle_column(path: &Path, column: &str) -> Option<(Vec<f64>, Vec<f64>)> {
     let text = std::fs::read_to_string(path).ok()?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next()?.split(',').collect();
-    let c = header.iter().position(|h| *h == column)?;
+    let c = header
+        .iter()
+        .position(|h| stride_ocp::outputs::column_name(h) == column)?;
     let (mut t, mut y) = (Vec::new(), Vec::new());
     for l in lines.filter(|l| !l.trim().is_empty()) {
         let f: Vec<&str> = l.split(',').collect();
@@ -61,17 +64,28 @@ fn vertical_grf_panel(s: &SpeedSeries, folder: &Path) -> Option<Panel> {
     let mut panel = Panel::new(
         "Vertical GRF (right), blue slow → red fast",
         "gait cycle [%]",
-        "force [% body weight]",
-    );
+        "upward + [% BW]",
+    )
+    .legend(true);
     let mut any = false;
-    for p in &s.points {
+    let last = s.points.len() - 1;
+    for (i, p) in s.points.iter().enumerate() {
         let file = folder.join("cases").join(&p.case).join("grf.csv");
-        if let Some((x, y)) = cycle_column(&file, "right_y_pct_bw") {
-            panel = panel.line(Series::new(x, y, speed_colour(p.speed, lo, hi)).width(1.5));
+        // tables written before the headers carried units name the column `right_y_pct_bw`
+        let column =
+            cycle_column(&file, "right_y").or_else(|| cycle_column(&file, "right_y_pct_bw"));
+        if let Some((x, y)) = column {
+            let mut line = Series::new(x, y, speed_colour(p.speed, lo, hi)).width(1.5);
+            // the legend names the ends of the colour scale
+            if i == 0 || i == last {
+                line = line.label(format!("{:.2} m/s", p.speed));
+            }
+            panel = panel.line(line);
             any = true;
         }
     }
-    any.then_some(panel)
+    let top = panel.data_range().1.map_or(1.0, |(_, hi)| hi.max(1e-9));
+    any.then(|| panel.y_limits(0.0, 1.05 * top))
 }
 
 /// The figure of one speed series (`None` with fewer than two points with outcomes); with
@@ -221,7 +235,7 @@ mod tests {
                 .collect();
             std::fs::write(
                 dir.join("grf.csv"),
-                format!("time,right_x_pct_bw,right_y_pct_bw,right_z_pct_bw\n{rows}"),
+                format!("time [s],right_x [% BW],right_y [% BW],right_z [% BW]\n{rows}"),
             )
             .unwrap();
         }

@@ -166,7 +166,7 @@ impl CaseRunner for PredictRunner {
                             case.guess,
                             self.solver.as_ref(),
                             &options,
-                            &progress,
+                            &|_, rec| progress(rec),
                         )
                     }
                     None => predict::solve_from(

@@ -28,13 +28,13 @@ use xml::{child, elements, objects, tag, text, Ctx};
 #[derive(Debug, thiserror::Error)]
 pub enum OsimError {
     /// The file could not be read.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         /// File concerned.
         path: PathBuf,
-        /// Underlying I/O error.
-        #[source]
-        source: std::io::Error,
+        /// Underlying I/O error (part of the message, not a separate cause, so that it is
+        /// printed once).
+        error: std::io::Error,
     },
     /// The file is not well-formed XML.
     #[error("{source_name}:{line}:{column}: malformed XML: {message}")]
@@ -64,11 +64,13 @@ pub enum OsimError {
 
 /// Read an OpenSim model file (`Version` 30000–4xxxx) into a [`Model`].
 pub fn load_osim(path: &Path) -> Result<Model, OsimError> {
-    let text = std::fs::read_to_string(path).map_err(|source| OsimError::Io {
+    let text = std::fs::read_to_string(path).map_err(|error| OsimError::Io {
         path: path.to_path_buf(),
-        source,
+        error,
     })?;
-    parse_osim(&text, &path.display().to_string())
+    let mut model = parse_osim(&text, &path.display().to_string())?;
+    model.source_file = Some(path.to_path_buf());
+    Ok(model)
 }
 
 /// Parse the text of an OpenSim model; `source_name` labels error messages.
