@@ -268,7 +268,7 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
     let pos_233 = &calls[pos("speed_2.33__hip50__pos")];
     assert_eq!(pos_233.1.as_deref(), Some("speed_1.43__hip50__pos"));
     // Records, result files and the index.
-    let r = store.record("speed_2.33__hip50__qr").unwrap();
+    let r = store.record("speed_2.33__hip50__qr").unwrap().unwrap();
     assert_eq!(r.status, CaseStatus::Failed);
     assert!(r.reason.contains("fake panic"), "{}", r.reason);
     assert!(out
@@ -397,7 +397,7 @@ speed = [0.73, 0.93, 1.13, 1.33, 1.53, 1.73, 1.93, 2.13, 2.33, 2.53, 2.73]
     let total: f64 = study
         .cases
         .iter()
-        .map(|c| store.record(&c.name).unwrap().time_s)
+        .map(|c| store.record(&c.name).unwrap().unwrap().time_s)
         .sum();
     assert!(total > 0.0 && (report.case_time_s - total).abs() < 1e-12);
     assert_eq!(report.selected.len(), 11);
