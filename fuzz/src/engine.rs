@@ -215,3 +215,38 @@ pub fn check(target: Target, paths: &[PathBuf]) -> Vec<(PathBuf, String)> {
     }
     failed
 }
+
+/// Reduce the corpus folder of `target` to the files that add coverage, smallest first
+/// (seed files, named `seed-*`, are always kept); returns the files kept and removed.
+/// Needs the instrumented build (an error otherwise: without coverage every file would go).
+pub fn minimize(target: Target, dir: &Path) -> Result<(usize, usize), String> {
+    if coverage::edges() <= 1 {
+        return Err("minimize needs the instrumented build (fuzz/rustc-sancov.sh)".into());
+    }
+    let mut paths = files(dir);
+    paths.sort_by_key(|p| {
+        let seed = p
+            .file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("seed-"));
+        (!seed, std::fs::metadata(p).map_or(0, |m| m.len()))
+    });
+    let mut seen = Vec::new();
+    let (mut kept, mut removed) = (0, 0);
+    for p in paths {
+        let Ok(data) = std::fs::read(&p) else {
+            continue;
+        };
+        coverage::reset();
+        let _ = std::panic::catch_unwind(|| target.run(&data));
+        let new = coverage::merge_new(&mut seen);
+        let seed = p
+            .file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("seed-"));
+        if new > 0 || seed {
+            kept += 1;
+        } else if std::fs::remove_file(&p).is_ok() {
+            removed += 1;
+        }
+    }
+    Ok((kept, removed))
+}

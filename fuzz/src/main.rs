@@ -3,12 +3,13 @@
 //! `stride-fuzz run <target> [--seconds S] [--seed N] [--seeds PATH]...` supervises a
 //! worker process: an input that aborts the worker (stack overflow, failed allocation) is
 //! saved to `fuzz/crashes/<target>/` and the worker restarts for the remaining time.
-//! `stride-fuzz check <target> PATH...` runs files once (regressions).
+//! `stride-fuzz check <target> PATH...` runs files once (regressions); `stride-fuzz
+//! minimize <target>` keeps only the corpus files that add coverage.
 
 use std::path::PathBuf;
 use std::process::Command;
 use std::time::Instant;
-use stride_fuzz::engine::{check, fuzz, Config};
+use stride_fuzz::engine::{check, fuzz, minimize, Config};
 use stride_fuzz::targets::Target;
 
 /// The fuzz folder (corpus, crashes) of this source tree.
@@ -128,7 +129,13 @@ fn main() {
                 Err(format!("{} inputs panicked", failed.len()))
             }
         }
-        other => Err(format!("unknown mode `{other}` (run, check)")),
+        "minimize" => minimize(a.target, &config(&a).corpus_dir).map(|(kept, removed)| {
+            println!(
+                "{}: kept {kept} corpus files, removed {removed}",
+                a.target.name()
+            );
+        }),
+        other => Err(format!("unknown mode `{other}` (run, check, minimize)")),
     });
     if let Err(e) = result {
         eprintln!("error: {e}");

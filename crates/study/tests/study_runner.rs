@@ -282,6 +282,12 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
         .unwrap()
         .starts_with("name,condition,speed,guess,status"));
     assert!(index.contains("speed_1.23__nominal__fos,nominal,1.23,full-os,failed,MaxIterations"));
+    // While a run holds the folder, another is refused naming its process id.
+    match Store::open(&out, &study, false) {
+        Err(StoreError::Busy { holder, .. }) => assert_eq!(holder, Some(std::process::id())),
+        other => panic!("{other:?}"),
+    }
+    drop(store);
     // Rerun: nothing to do. A killed run's temporary folder is cleaned.
     std::fs::create_dir_all(out.join("cases/.tmp-speed_1.13__nominal__qr-999")).unwrap();
     let store = Store::open(&out, &study, false).unwrap();
@@ -309,6 +315,7 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
     .unwrap();
     assert_eq!((s4.ran, s4.failed), (2, 0));
     // Another study file into the same folder is refused unless forced.
+    drop(store);
     let other = spec::parse(&SMALL.replace("jobs = 2", "jobs = 1"), Path::new("o.toml")).unwrap();
     match Store::open(&out, &other, false) {
         Err(StoreError::OtherStudy { .. }) => {}
