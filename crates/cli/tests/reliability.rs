@@ -499,7 +499,7 @@ fn kill_9_during_predict_and_study_loses_nothing() {
 }
 
 #[test]
-#[ignore = "long: 20 kills of predict and of study (about 4 minutes)"]
+#[ignore = "long: 20 kills of predict and of study (about 2 minutes)"]
 fn kill_9_repeated_during_predict_and_study_loses_nothing() {
     kill_rounds("kill-predict-long", predict_force, "res", 20, 5000);
     kill_rounds("kill-study-long", study_args, "st", 20, 8000);
