@@ -84,6 +84,23 @@ pub fn merge_new(seen: &mut Vec<u8>) -> usize {
     new
 }
 
+/// Merge the edges hit by the last input into `seen` (hit counts ignored); returns how
+/// many edges are new.
+pub fn merge_new_edges(seen: &mut Vec<u8>) -> usize {
+    let n = edges();
+    if seen.len() < n {
+        seen.resize(n, 0);
+    }
+    let mut new = 0;
+    for (s, h) in seen.iter_mut().zip(&HITS[..n]) {
+        if *s == 0 && h.load(Relaxed) != 0 {
+            *s = 1;
+            new += 1;
+        }
+    }
+    new
+}
+
 /// Number of edges ever hit according to `seen`.
 pub fn covered(seen: &[u8]) -> usize {
     seen.iter().filter(|&&s| s != 0).count()

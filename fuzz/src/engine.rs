@@ -216,7 +216,7 @@ pub fn check(target: Target, paths: &[PathBuf]) -> Vec<(PathBuf, String)> {
     failed
 }
 
-/// Reduce the corpus folder of `target` to the files that add coverage, smallest first
+/// Reduce the corpus folder of `target` to the files that reach new edges, smallest first
 /// (seed files, named `seed-*`, are always kept); returns the files kept and removed.
 /// Needs the instrumented build (an error otherwise: without coverage every file would go).
 pub fn minimize(target: Target, dir: &Path) -> Result<(usize, usize), String> {
@@ -238,7 +238,7 @@ pub fn minimize(target: Target, dir: &Path) -> Result<(usize, usize), String> {
         };
         coverage::reset();
         let _ = std::panic::catch_unwind(|| target.run(&data));
-        let new = coverage::merge_new(&mut seen);
+        let new = coverage::merge_new_edges(&mut seen);
         let seed = p
             .file_name()
             .is_some_and(|n| n.to_string_lossy().starts_with("seed-"));
