@@ -4,6 +4,7 @@ mod bench_cmd;
 mod bench_geometry;
 mod data_cmd;
 mod fit_cmd;
+mod limits;
 mod model_cmd;
 mod model_load;
 mod paths_cmd;
@@ -70,7 +71,24 @@ fn main() {
         Command::Bench(cmd) => bench_cmd::run(cmd),
     };
     if let Err(e) = result {
-        eprintln!("error: {e:#}");
+        eprintln!("error: {}", error_line(&e));
         std::process::exit(1);
     }
+}
+
+/// An error and its causes on one line (`outer: cause: root cause`), leaving out a cause
+/// whose text the line already holds (errors that print their source in their own message).
+fn error_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.contains(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line
 }

@@ -3,11 +3,12 @@
 use anyhow::{bail, Context};
 use clap::Args;
 use serde::Deserialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
+use stride_model::result_dir::{self, Existing, OutputError, ResultKind};
 use stride_ocp::guess::GuessKind;
 use stride_ocp::predict;
-use stride_ocp::settings::ProblemSettings;
+use stride_ocp::settings::{ProblemSettings, RunSettings};
 use stride_solve::solver::{HessianMode, MuStrategy, Solver, SolverOptions};
 
 /// Arguments of `stride predict` (flags override the study file).
@@ -60,9 +61,14 @@ pub struct PredictArgs {
     /// mesh is finer; 0: solve the requested mesh directly from the guess].
     #[arg(long, value_name = "INTERVALS")]
     pub presolve_mesh: Option<usize>,
-    /// Output folder, replaced when the prediction is complete [default: out/predict_<speed>].
+    /// Output folder: a new or empty folder, or a previous result of `stride predict`
+    /// (replaced only with `--force`). Default `out/predict_<speed>`, or the next free
+    /// `out/predict_<speed>-2`, `-3`, … when it holds a result.
     #[arg(long, value_name = "FOLDER")]
     pub out: Option<PathBuf>,
+    /// Replace the previous result in the output folder (never a folder stride did not write).
+    #[arg(long)]
+    pub force: bool,
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
@@ -70,6 +76,9 @@ pub struct PredictArgs {
     #[arg(long)]
     pub no_view: bool,
 }
+
+/// Largest study file read [bytes].
+pub(crate) const MAX_STUDY_FILE_BYTES: u64 = 16 << 20;
 
 /// Solver section of a study file.
 #[derive(Deserialize, Default)]
@@ -172,11 +181,18 @@ pub(crate) fn check_correctors(options: &SolverOptions, backend: &str) -> anyhow
 
 /// A wall-time limit [s] given on the command line or in a study file, checked positive.
 pub(crate) fn check_time_limit(t: f64) -> anyhow::Result<Duration> {
-    if !(t.is_finite() && t > 0.0) {
-        bail!("invalid time limit {t} s: must be a positive number of seconds");
+    RunSettings {
+        time_limit: Some(t),
+        ..Default::default()
     }
+    .validate()?;
     Ok(Duration::from_secs_f64(t))
 }
+
+/// Wall-time limit of each solve of a prediction unless set [s]: a nominal solve takes
+/// about a minute, a 100-interval case a few; a problem that does not converge stops here
+/// with its status and files instead of iterating for hours.
+pub(crate) const DEFAULT_TIME_LIMIT_S: f64 = 1800.0;
 
 /// Largest constraint violation (unscaled, max-norm) of a converged prediction.
 pub(crate) const PREDICTION_CONSTR_VIOL_TOL: f64 = 1e-6;
@@ -186,7 +202,8 @@ pub(crate) const PREDICTION_CONSTR_VIOL_TOL: f64 = 1e-6;
 pub(crate) const HYBRID_CORRECTORS: usize = 2;
 
 /// Solver options of a prediction: tolerance (default 1e-4), iteration limit (default
-/// 3000), Hessian choice, wall-time limit per solve [s] (default none), centrality
+/// 3000), Hessian choice, wall-time limit per solve [s] (default
+/// [`DEFAULT_TIME_LIMIT_S`]), centrality
 /// correctors (default 2 with the hybrid Hessian, else 0), adaptive μ, and a
 /// constraint violation of at most 1e-6 at the solution (IPOPT's default, 1e-4, let the
 /// 50-interval data-informed solve stop at 1.7e-6).
@@ -197,13 +214,19 @@ pub(crate) fn prediction_options(
     time_limit: Option<f64>,
     correctors: Option<usize>,
 ) -> anyhow::Result<SolverOptions> {
-    let tol = tol.unwrap_or(1e-4);
-    if tol.is_nan() || tol <= 0.0 {
-        bail!("invalid tol {tol}: must be positive");
-    }
-    let time_limit = time_limit.map(check_time_limit).transpose()?;
-    Ok(SolverOptions {
+    RunSettings {
         tol,
+        max_iter,
+        time_limit,
+        centrality_correctors: correctors,
+        ..Default::default()
+    }
+    .validate()?;
+    let time_limit = Some(check_time_limit(
+        time_limit.unwrap_or(DEFAULT_TIME_LIMIT_S),
+    )?);
+    Ok(SolverOptions {
+        tol: tol.unwrap_or(1e-4),
         max_iter: max_iter.unwrap_or(3000),
         hessian: hessian.mode,
         exact_hessian_tail: hessian.exact_tail,
@@ -219,14 +242,63 @@ pub(crate) fn prediction_options(
     })
 }
 
+/// The study file of `--config`, read with a size bound.
+fn read_study_file(p: &Path) -> anyhow::Result<StudyFile> {
+    let bytes = stride_model::storage::read_limited(p, MAX_STUDY_FILE_BYTES)
+        .with_context(|| format!("reading study file {}", p.display()))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| anyhow::anyhow!("study file {}: not UTF-8 text", p.display()))?;
+    toml::from_str(&text).with_context(|| format!("study file {}", p.display()))
+}
+
+/// The initial guesses named on the command line or in a study file, each at most once.
+pub(crate) fn parse_guesses(list: &[String]) -> anyhow::Result<Vec<GuessKind>> {
+    let mut guesses = Vec::new();
+    for name in list {
+        let g = parse_guess(name)?;
+        if guesses.contains(&g) {
+            bail!("initial guess `{g}` given twice (`{}`)", list.join(","));
+        }
+        guesses.push(g);
+    }
+    if guesses.is_empty() {
+        bail!("no initial guess given");
+    }
+    Ok(guesses)
+}
+
+/// The output folder of a prediction, checked before anything is solved: a new or empty
+/// folder, or a previous prediction result replaced with `force`. When the default folder
+/// holds a result (and no `force`), the next free numbered name is used and said on stderr;
+/// a given folder holding a result is an error. Stale staging folders beside it are removed.
+fn output_folder(given: Option<PathBuf>, speed: f64, force: bool) -> anyhow::Result<PathBuf> {
+    let (out, is_default) = match given {
+        Some(p) => (p, false),
+        None => (PathBuf::from(format!("out/predict_{speed:.2}")), true),
+    };
+    let out = match result_dir::inspect(&out, ResultKind::Prediction)? {
+        Existing::Free => out,
+        Existing::Own(_) if force => out,
+        Existing::Own(_) if is_default => {
+            let next = result_dir::next_free(&out, ResultKind::Prediction);
+            eprintln!(
+                "note: {} holds a previous result (--force replaces it); writing to {}",
+                out.display(),
+                next.display()
+            );
+            next
+        }
+        Existing::Own(_) => return Err(OutputError::Occupied(out.display().to_string()).into()),
+    };
+    result_dir::check_writable(&out)?;
+    result_dir::clean_stale(&result_dir::parent_of(&out));
+    Ok(out)
+}
+
 /// Run `stride predict`.
 pub fn run(args: PredictArgs) -> anyhow::Result<()> {
-    let study: StudyFile = match &args.config {
-        Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("reading study file {}", p.display()))?;
-            toml::from_str(&text).with_context(|| format!("study file {}", p.display()))?
-        }
+    let study = match &args.config {
+        Some(p) => read_study_file(p)?,
         None => StudyFile::default(),
     };
     let mut settings = study.problem.unwrap_or_default();
@@ -237,17 +309,16 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         settings.mesh_intervals = n;
     }
     settings.validate()?;
-    let guesses: Vec<GuessKind> = match args.guess.or(study.guesses) {
-        Some(list) => list
-            .iter()
-            .map(|s| parse_guess(s))
-            .collect::<Result<_, _>>()?,
+    let guesses = match args.guess.or(study.guesses) {
+        Some(list) => parse_guesses(&list)?,
         None => vec![GuessKind::QuasiRandom, GuessKind::DataInformedWalking],
     };
-    if guesses.is_empty() {
-        bail!("no initial guess given");
-    }
     let s = &study.solver;
+    RunSettings {
+        presolve_mesh: args.presolve_mesh.or(s.presolve_mesh),
+        ..Default::default()
+    }
+    .validate()?;
     let backend_name = args
         .solver
         .or(s.backend.clone())
@@ -271,10 +342,13 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         args.geometry.or(study.geometry).as_deref(),
         args.quiet,
     )?;
-    let out = args
-        .out
-        .or(study.output)
-        .unwrap_or_else(|| PathBuf::from(format!("out/predict_{:.2}", settings.speed)));
+    crate::limits::check_memory(
+        &model,
+        &settings,
+        guesses.len(),
+        "the guesses solved at once",
+    )?;
+    let out = output_folder(args.out.or(study.output), settings.speed, args.force)?;
     let quiet = args.quiet;
     let board = crate::progress::ProgressBoard::new(&guesses, options.tol / 10.0);
     let progress = |src: predict::ProgressSource, r: &stride_solve::solver::IterationRecord| {

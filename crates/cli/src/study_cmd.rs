@@ -5,6 +5,7 @@ use crate::predict_cmd;
 use anyhow::Context;
 use clap::Args;
 use std::path::{Path, PathBuf};
+use stride_ocp::settings::RunSettings;
 use stride_solve::solver::SolverOptions;
 use stride_study::analysis;
 use stride_study::predict_runner::{
@@ -12,7 +13,7 @@ use stride_study::predict_runner::{
 };
 use stride_study::runner::{run_study, RunOptions};
 use stride_study::spec;
-use stride_study::store::Store;
+use stride_study::store::{lock_study, Store};
 
 /// Arguments of `stride study`.
 #[derive(Args)]
@@ -31,7 +32,7 @@ pub struct StudyArgs {
     /// Iteration limit per case (overrides `[study.solver] max_iter`).
     #[arg(long)]
     pub max_iter: Option<usize>,
-    /// Resume into a folder made from a different study file.
+    /// Resume into a study folder made from a different study file.
     #[arg(long)]
     pub force: bool,
     /// Run failed cases again.
@@ -69,13 +70,21 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     let study = spec::load(&args.file)?;
     let h = &study.header;
     let s = &h.solver;
+    // the command line's values are checked by the same rules as the study file's
+    RunSettings {
+        threads: args.threads,
+        jobs: args.jobs,
+        max_iter: args.max_iter,
+        ..Default::default()
+    }
+    .validate()?;
     // the same names, defaults and checks as `stride predict`, errors prefixed by the section
     let section = || format!("{}: [study.solver]", args.file.display());
     let backend_name = s.backend.as_deref().unwrap_or("ipm");
     let solver = predict_cmd::backend(backend_name).with_context(section)?;
     let hessian =
         predict_cmd::parse_hessian(s.hessian.as_deref(), backend_name).with_context(section)?;
-    let threads = args.threads.unwrap_or(h.threads_per_case).max(1);
+    let threads = args.threads.unwrap_or(h.threads_per_case);
     let options = SolverOptions {
         threads,
         ..predict_cmd::prediction_options(
@@ -89,6 +98,14 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     };
     predict_cmd::check_correctors(&options, backend_name).with_context(section)?;
     let model = study_model(h.model.as_deref())?;
+    let jobs = args.jobs.unwrap_or(h.jobs);
+    if let Some(largest) = study.cases.iter().max_by_key(|c| {
+        let full = c.settings.cycle != stride_ocp::settings::CycleKind::HalfSymmetric;
+        (c.settings.mesh_intervals, full)
+    }) {
+        crate::limits::check_memory(&model, &largest.settings, jobs, "cases solved at once")
+            .with_context(|| format!("{}: case `{}`", args.file.display(), largest.name))?;
+    }
     check_cases(&model, &study.cases, s.presolve_mesh)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
     let only = if args.only.is_empty() {
@@ -112,7 +129,6 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     }
     let out = args.out.clone().unwrap_or_else(|| h.output.clone());
     let store = Store::open(&out, &study, args.force)?;
-    let jobs = args.jobs.unwrap_or(h.jobs).max(1);
     if !args.quiet {
         eprintln!(
             "study `{}`: {} cases, {jobs} at a time, {threads} solver thread(s) each, output {}",
@@ -264,6 +280,8 @@ pub fn report(args: ReportArgs) -> anyhow::Result<()> {
     let study = spec::load(&args.folder.join("study.toml"))?;
     let model = study_model(study.header.model.as_deref())?;
     if args.rewrite_cases {
+        // case folders are swapped: not while a study runs in the folder
+        let _lock = lock_study(&args.folder)?;
         rewrite_cases(&model, &study, &args.folder)?;
     }
     let recompute = |dir: &Path| measures_from_solution(&model, dir);

@@ -59,7 +59,10 @@ fn bench_rejects_bad_arguments_with_one_line() {
         &["bench", "solver", "--hessian", "exact,bfgs"],
         "unknown hessian `bfgs`",
     );
-    rejects(&["bench", "solver", "--time-limit", "0"], "time limit");
+    rejects(
+        &["bench", "solver", "--time-limit", "0"],
+        "`time_limit` = 0",
+    );
     rejects(&["bench", "derivatives", "--mesh", "0"], "mesh_intervals");
     rejects(&["bench", "derivatives", "--reps", "0"], "--reps 0");
     rejects(&["bench", "predict", "--mesh", "0"], "mesh_intervals");

@@ -97,9 +97,18 @@ fn parse_value(s: &str) -> Option<f64> {
 impl Storage {
     /// Read a storage file (`.mot`, `.sto`) from disk.
     pub fn read(path: &Path) -> Result<Storage, StorageError> {
-        let text = std::fs::read_to_string(path).map_err(|source| StorageError::Io {
+        let io = |source| StorageError::Io {
             path: path.to_path_buf(),
             source,
+        };
+        let bytes = read_limited(path, MAX_STORAGE_BYTES).map_err(io)?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count();
+            io(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("line {line}: not UTF-8 text"),
+            ))
         })?;
         Self::parse(&text, path)
     }
@@ -264,31 +273,42 @@ impl Storage {
     }
 }
 
-/// Replace the folder `dst` by the complete folder `src` (a sibling of it): `dst`, if any,
-/// is moved aside, `src` renamed into its place and the old folder removed; if the rename
-/// fails, `dst` is put back. Readers see the old folder or the new one, never a mix.
-pub fn replace_dir(src: &Path, dst: &Path) -> std::io::Result<()> {
-    let name = dst.file_name().map(|n| n.to_string_lossy().into_owned());
-    let aside = dst.with_file_name(format!(
-        ".{}.old{}",
-        name.as_deref().unwrap_or("dir"),
-        std::process::id()
-    ));
-    let had_dst = dst.exists();
-    if had_dst {
-        let _ = std::fs::remove_dir_all(&aside);
-        std::fs::rename(dst, &aside)?;
+/// Largest `.mot`/`.sto` file read [bytes].
+pub const MAX_STORAGE_BYTES: u64 = 256 << 20;
+
+/// The bytes of the input file `path`, refusing a file larger than `limit` bytes (or one
+/// that is not a regular file) before reading it.
+pub fn read_limited(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
+    use std::io::Read as _;
+    let file = std::fs::File::open(path)?;
+    let meta = file.metadata()?;
+    if meta.is_dir() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "is a folder, not a file",
+        ));
     }
-    if let Err(e) = std::fs::rename(src, dst) {
-        if had_dst {
-            let _ = std::fs::rename(&aside, dst);
-        }
-        return Err(e);
+    if meta.len() > limit {
+        return Err(too_large(meta.len(), limit));
     }
-    if had_dst {
-        let _ = std::fs::remove_dir_all(&aside);
+    let mut bytes = Vec::new();
+    // a device or pipe reports no length: stop one byte past the limit
+    file.take(limit + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64, limit));
     }
-    Ok(())
+    Ok(bytes)
+}
+
+fn too_large(size: u64, limit: u64) -> std::io::Error {
+    std::io::Error::new(
+        std::io::ErrorKind::InvalidData,
+        format!(
+            "file of {:.1} MB is larger than the {} MB accepted",
+            size as f64 / 1048576.0,
+            limit >> 20
+        ),
+    )
 }
 
 /// Write `bytes` to `path` atomically: write a temporary file in the same folder, then

@@ -1,6 +1,7 @@
 //! stride-ocp: the optimal control problem of gait.
 //!
 //! - [`settings`]: every option of a prediction (study-file schema), paper defaults.
+//! - [`size`]: NLP size and peak memory of a solve, estimated before building it.
 //! - [`gait`]: the gait view of a model (coordinate roles, mirror maps).
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
@@ -24,6 +25,7 @@ pub mod predict;
 pub mod problem;
 pub mod radau;
 pub mod settings;
+pub mod size;
 pub mod solution;
 pub mod tape_node;
 pub mod trajectory;

@@ -13,9 +13,10 @@ use crate::trajectory::{Outcomes, Trajectory};
 use crate::transcription::Transcription;
 use serde::Serialize;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
-use stride_model::storage::{replace_dir, write_atomic, Storage};
+use stride_model::result_dir::{self, ResultKind};
+use stride_model::storage::{write_atomic, Storage};
 use stride_model::Model;
 use stride_solve::solver::{
     ControlFlow, HessianMode, IterationRecord, SolveResult, Solver, SolverOptions,
@@ -591,7 +592,8 @@ fn log_csv(records: &[IterationRecord]) -> String {
 }
 
 /// Write every result file of a solved problem into `out` atomically: files go to a
-/// sibling temporary folder that replaces `out` only when complete.
+/// staging folder beside `out` ([`result_dir::stage`]) that replaces `out` only when
+/// complete. `out` must be free or a stride prediction result ([`result_dir::inspect`]).
 pub fn write_results(
     problem: &GaitProblem,
     solved: &[Solved],
@@ -600,58 +602,55 @@ pub fn write_results(
     options: &SolverOptions,
     out: &Path,
 ) -> Result<Summary, PredictError> {
-    let node = NodeModel::new(problem)?;
-    let tmp = sibling_dir(out, "partial")?;
-    let result = (|| {
-        let mut outcomes = None;
-        // Solver logs of every guess (and of its coarse-mesh presolve).
-        for s in solved {
-            let p = tmp.join(format!("solver_log_{}.csv", s.report.guess));
-            write_atomic(&p, log_csv(&s.result.log).as_bytes()).map_err(|e| write_err(&p, e))?;
-            if let Some(pre) = &s.report.presolve {
-                let p = tmp.join(format!("solver_log_{}_presolve.csv", s.report.guess));
-                write_atomic(&p, log_csv(&pre.log).as_bytes()).map_err(|e| write_err(&p, e))?;
-            }
-        }
-        if let Some(k) = kept {
-            let mesh = problem.mesh_solution(&node, &solved[k].result.x)?;
-            let cycle = problem.gait_cycle(&mesh);
-            outcomes = Some(problem.outcomes(&node, &mesh, &cycle)?);
-            crate::outputs::write_cycle(problem, &node, &cycle, &tmp)?;
-            let x = &solved[k].result.x;
-            write_solution(&tmp, &SolutionFile::new(&problem.settings, x, &cycle))?;
-        }
-        let summary = Summary {
-            kept_guess: kept.map(|k| solved[k].report.guess),
-            guesses: solved.iter().map(|s| s.report.clone()).collect(),
-            solver: solver_name.into(),
-            solver_options: options.clone(),
-            outcomes,
-            settings: problem.settings.clone(),
-            nlp_size: [problem.layout.len(), 0],
-            units: crate::outputs::summary_units(),
-        };
-        let p = tmp.join("summary.json");
-        let json = serde_json::to_string_pretty(&summary).map_err(|e| write_err(&p, e))?;
-        write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
-        Ok(summary)
-    })();
+    let tmp =
+        result_dir::stage(out, "partial", ResultKind::Prediction).map_err(|e| write_err(out, e))?;
+    let result = write_results_into(problem, solved, kept, solver_name, options, &tmp);
     swap_in(result, &tmp, out)
 }
 
-/// A fresh, empty temporary folder beside `out` (its parent created if needed), named after
-/// `out` and `tag`.
-fn sibling_dir(out: &Path, tag: &str) -> Result<PathBuf, PredictError> {
-    let parent = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent).map_err(|e| write_err(parent, e))?;
-    let name = out.file_name().and_then(|s| s.to_str()).unwrap_or("out");
-    let tmp = parent.join(format!(".{name}.{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&tmp);
-    std::fs::create_dir_all(&tmp).map_err(|e| write_err(&tmp, e))?;
-    Ok(tmp)
+/// Write every result file of a solved problem into the existing folder `dir` (a staging
+/// folder its caller puts in place, e.g. a study's case folder in flight).
+pub fn write_results_into(
+    problem: &GaitProblem,
+    solved: &[Solved],
+    kept: Option<usize>,
+    solver_name: &str,
+    options: &SolverOptions,
+    dir: &Path,
+) -> Result<Summary, PredictError> {
+    let node = NodeModel::new(problem)?;
+    let mut outcomes = None;
+    // Solver logs of every guess (and of its coarse-mesh presolve).
+    for s in solved {
+        let p = dir.join(format!("solver_log_{}.csv", s.report.guess));
+        write_atomic(&p, log_csv(&s.result.log).as_bytes()).map_err(|e| write_err(&p, e))?;
+        if let Some(pre) = &s.report.presolve {
+            let p = dir.join(format!("solver_log_{}_presolve.csv", s.report.guess));
+            write_atomic(&p, log_csv(&pre.log).as_bytes()).map_err(|e| write_err(&p, e))?;
+        }
+    }
+    if let Some(k) = kept {
+        let mesh = problem.mesh_solution(&node, &solved[k].result.x)?;
+        let cycle = problem.gait_cycle(&mesh);
+        outcomes = Some(problem.outcomes(&node, &mesh, &cycle)?);
+        crate::outputs::write_cycle(problem, &node, &cycle, dir)?;
+        let x = &solved[k].result.x;
+        write_solution(dir, &SolutionFile::new(&problem.settings, x, &cycle))?;
+    }
+    let summary = Summary {
+        kept_guess: kept.map(|k| solved[k].report.guess),
+        guesses: solved.iter().map(|s| s.report.clone()).collect(),
+        solver: solver_name.into(),
+        solver_options: options.clone(),
+        outcomes,
+        settings: problem.settings.clone(),
+        nlp_size: [problem.layout.len(), 0],
+        units: crate::outputs::summary_units(),
+    };
+    let p = dir.join("summary.json");
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| write_err(&p, e))?;
+    write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
+    Ok(summary)
 }
 
 /// After a folder was written into `tmp`: on success `tmp` replaces `out`, on failure it is
@@ -659,7 +658,7 @@ fn sibling_dir(out: &Path, tag: &str) -> Result<PathBuf, PredictError> {
 fn swap_in<T>(result: Result<T, PredictError>, tmp: &Path, out: &Path) -> Result<T, PredictError> {
     match result {
         Ok(v) => {
-            replace_dir(tmp, out).map_err(|e| write_err(out, e))?;
+            result_dir::commit(tmp, out).map_err(|e| write_err(out, e))?;
             Ok(v)
         }
         Err(e) => {
@@ -691,7 +690,8 @@ pub fn rewrite_results(
     let mesh = problem.mesh_solution(&node, x)?;
     let cycle = problem.gait_cycle(&mesh);
     let outcomes = problem.outcomes(&node, &mesh, &cycle)?;
-    let tmp = sibling_dir(out, "rewrite")?;
+    let tmp =
+        result_dir::stage(out, "rewrite", ResultKind::Prediction).map_err(|e| write_err(out, e))?;
     let result = (|| {
         copy_tree(out, &tmp)?;
         crate::outputs::write_cycle(problem, &node, &cycle, &tmp)?;

@@ -274,26 +274,36 @@ fn check(ok: bool, key: &str, value: impl ToString, reason: &str) -> Result<(), 
     }
 }
 
+/// Largest mesh accepted (intervals per simulated duration); the memory a mesh needs is
+/// checked separately against the machine ([`crate::size`]).
+pub const MAX_MESH_INTERVALS: usize = 10_000;
+
+/// A finite number in the closed range `[lo, hi]`.
+fn within(v: f64, lo: f64, hi: f64) -> bool {
+    v.is_finite() && v >= lo && v <= hi
+}
+
 impl ProblemSettings {
-    /// Check every value against its allowed range.
+    /// Check every value against its allowed range (finite and physically meaningful; the
+    /// message gives the range).
     pub fn validate(&self) -> Result<(), SettingsError> {
         check(
-            self.speed.is_finite() && self.speed > 0.0,
+            within(self.speed, 0.0, 12.0) && self.speed > 0.0,
             "speed",
             self.speed,
-            "must be a positive speed in m/s",
+            "must lie in (0, 12] m/s (human walking and running)",
         )?;
         check(
-            self.mesh_intervals >= 2,
+            (2..=MAX_MESH_INTERVALS).contains(&self.mesh_intervals),
             "mesh_intervals",
             self.mesh_intervals,
-            "must be at least 2",
+            &format!("must lie in 2..={MAX_MESH_INTERVALS}"),
         )?;
         check(
-            self.metabolic_exponent > 0.0 && self.metabolic_exponent.is_finite(),
+            within(self.metabolic_exponent, 0.0, 4.0) && self.metabolic_exponent > 0.0,
             "metabolic_exponent",
             self.metabolic_exponent,
-            "must be positive",
+            "must lie in (0, 4]",
         )?;
         check(
             (0.0..1.0).contains(&self.activation_min),
@@ -302,16 +312,17 @@ impl ProblemSettings {
             "must lie in [0, 1)",
         )?;
         check(
-            self.max_contraction_velocity > 0.0,
+            within(self.max_contraction_velocity, 0.0, 100.0)
+                && self.max_contraction_velocity > 0.0,
             "max_contraction_velocity",
             self.max_contraction_velocity,
-            "must be positive (optimal fibre lengths per second)",
+            "must lie in (0, 100] optimal fibre lengths per second",
         )?;
         check(
-            self.tendon_stiffness > 0.0,
+            within(self.tendon_stiffness, 0.0, 1000.0) && self.tendon_stiffness > 0.0,
             "tendon_stiffness",
             self.tendon_stiffness,
-            "must be positive",
+            "must lie in (0, 1000]",
         )?;
         check(
             (0.0..=0.5).contains(&self.contact_friction_smoothing),
@@ -319,6 +330,39 @@ impl ProblemSettings {
             self.contact_friction_smoothing,
             "must lie in [0, 0.5] (a fraction of the transition velocity)",
         )?;
+        self.validate_weights()?;
+        if let Some([lo, hi]) = self.duration_bounds {
+            check(
+                within(lo, 0.0, 10.0) && within(hi, 0.0, 10.0) && lo > 0.0 && hi > lo,
+                "duration_bounds",
+                format!("[{lo}, {hi}]"),
+                "must satisfy 0 < lower < upper ≤ 10 (s)",
+            )?;
+        }
+        self.validate_strength()?;
+        self.validate_prosthesis()?;
+        for (i, d) in self.min_distances.iter().enumerate() {
+            check(
+                within(d.min, 0.0, 10.0) && within(d.max, 0.0, 10.0) && d.max > d.min,
+                &format!("min_distances[{i}]"),
+                format!("[{}, {}]", d.min, d.max),
+                "needs 0 ≤ min < max ≤ 10 (m)",
+            )?;
+        }
+        for (i, b) in self.coordinate_bounds.iter().enumerate() {
+            let key = format!("coordinate_bounds[{i}]");
+            let shown = format!("{} [{:?}, {:?}]", b.coordinate, b.lower, b.upper);
+            for v in [b.lower, b.upper].into_iter().flatten() {
+                check(!v.is_nan(), &key, &shown, "a bound must be a number")?;
+            }
+            if let (Some(lo), Some(hi)) = (b.lower, b.upper) {
+                check(lo <= hi, &key, &shown, "lower bound exceeds upper bound")?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_weights(&self) -> Result<(), SettingsError> {
         let w = &self.weights;
         for (k, v) in [
             ("weights.metabolic", w.metabolic),
@@ -328,27 +372,18 @@ impl ProblemSettings {
             ("weights.arm_excitation", w.arm_excitation),
             ("weights.slack_controls", w.slack_controls),
         ] {
-            check(
-                v >= 0.0 && v.is_finite(),
-                k,
-                v,
-                "must be a finite weight ≥ 0",
-            )?;
+            check(within(v, 0.0, 1e12), k, v, "must lie in [0, 1e12]")?;
         }
-        if let Some([lo, hi]) = self.duration_bounds {
-            check(
-                lo > 0.0 && hi > lo,
-                "duration_bounds",
-                format!("[{lo}, {hi}]"),
-                "must satisfy 0 < lower < upper (s)",
-            )?;
-        }
+        Ok(())
+    }
+
+    fn validate_strength(&self) -> Result<(), SettingsError> {
         for (i, s) in self.strength.iter().enumerate() {
             check(
-                s.scale > 0.0 && s.scale.is_finite(),
+                within(s.scale, 0.0, 10.0) && s.scale > 0.0,
                 &format!("strength[{i}].scale"),
                 s.scale,
-                "must be positive",
+                "must lie in (0, 10]",
             )?;
             check(
                 s.group.is_some() || !s.muscles.is_empty(),
@@ -365,43 +400,30 @@ impl ProblemSettings {
                 )?;
             }
         }
-        if let Some(p) = &self.prosthesis {
-            check(
-                self.cycle == CycleKind::FullPeriodic,
-                "prosthesis",
-                "{..}",
-                "an asymmetric gait needs `cycle = \"full-periodic\"`",
-            )?;
-            check(
-                p.stiffness.is_finite() && p.stiffness >= 0.0,
-                "prosthesis.stiffness",
-                p.stiffness,
-                "must be a stiffness ≥ 0 (N m/rad)",
-            )?;
-            for (k, v) in [
-                ("prosthesis.mass_scale", p.mass_scale),
-                ("prosthesis.inertia_scale", p.inertia_scale),
-            ] {
-                check(v > 0.0 && v <= 1.0, k, v, "must lie in (0, 1]")?;
-            }
-        }
-        for (i, d) in self.min_distances.iter().enumerate() {
-            check(
-                d.min >= 0.0 && d.max > d.min,
-                &format!("min_distances[{i}]"),
-                format!("[{}, {}]", d.min, d.max),
-                "needs 0 ≤ min < max (m)",
-            )?;
-        }
-        for (i, b) in self.coordinate_bounds.iter().enumerate() {
-            if let (Some(lo), Some(hi)) = (b.lower, b.upper) {
-                check(
-                    lo <= hi,
-                    &format!("coordinate_bounds[{i}]"),
-                    format!("{} [{lo}, {hi}]", b.coordinate),
-                    "lower bound exceeds upper bound",
-                )?;
-            }
+        Ok(())
+    }
+
+    fn validate_prosthesis(&self) -> Result<(), SettingsError> {
+        let Some(p) = &self.prosthesis else {
+            return Ok(());
+        };
+        check(
+            self.cycle == CycleKind::FullPeriodic,
+            "prosthesis",
+            "{..}",
+            "an asymmetric gait needs `cycle = \"full-periodic\"`",
+        )?;
+        check(
+            within(p.stiffness, 0.0, 1e5),
+            "prosthesis.stiffness",
+            p.stiffness,
+            "must lie in [0, 1e5] N m/rad",
+        )?;
+        for (k, v) in [
+            ("prosthesis.mass_scale", p.mass_scale),
+            ("prosthesis.inertia_scale", p.inertia_scale),
+        ] {
+            check(v > 0.0 && v <= 1.0, k, v, "must lie in (0, 1]")?;
         }
         Ok(())
     }
@@ -412,6 +434,86 @@ impl ProblemSettings {
             CycleKind::HalfSymmetric => [0.1, 1.0],
             CycleKind::FullPeriodic => [0.6, 2.0],
         })
+    }
+}
+
+/// Solver and parallelism settings as given on the command line or in a study file
+/// (`None`: not given, the default applies). `stride predict`, `stride study` and study
+/// files check them with the same [`RunSettings::validate`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RunSettings {
+    /// Convergence tolerance.
+    pub tol: Option<f64>,
+    /// Iteration limit per solve.
+    pub max_iter: Option<usize>,
+    /// Wall-time limit per solve [s].
+    pub time_limit: Option<f64>,
+    /// Centrality correctors per interior-point iteration.
+    pub centrality_correctors: Option<usize>,
+    /// Coarse presolve mesh (0: none).
+    pub presolve_mesh: Option<usize>,
+    /// Evaluation threads per solve (per case in a study).
+    pub threads: Option<usize>,
+    /// Cases solved at the same time (studies).
+    pub jobs: Option<usize>,
+}
+
+/// Largest iteration limit, thread count and job count accepted.
+pub const MAX_ITER: usize = 1_000_000;
+/// Largest thread or job count accepted.
+pub const MAX_THREADS: usize = 1024;
+/// Largest wall-time limit accepted [s] (one week).
+pub const MAX_TIME_LIMIT_S: f64 = 604_800.0;
+
+impl RunSettings {
+    /// Check every given value against its range (the message gives the range).
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        if let Some(t) = self.tol {
+            check(
+                within(t, 0.0, 1.0) && t > 0.0,
+                "tol",
+                t,
+                "must lie in (0, 1]",
+            )?;
+        }
+        if let Some(n) = self.max_iter {
+            check(
+                (1..=MAX_ITER).contains(&n),
+                "max_iter",
+                n,
+                &format!("must lie in 1..={MAX_ITER}"),
+            )?;
+        }
+        if let Some(t) = self.time_limit {
+            check(
+                within(t, 0.0, MAX_TIME_LIMIT_S) && t > 0.0,
+                "time_limit",
+                t,
+                &format!("must lie in (0, {MAX_TIME_LIMIT_S}] s"),
+            )?;
+        }
+        if let Some(n) = self.centrality_correctors {
+            check(n <= 10, "centrality_correctors", n, "must lie in 0..=10")?;
+        }
+        if let Some(n) = self.presolve_mesh {
+            check(
+                n <= MAX_MESH_INTERVALS,
+                "presolve_mesh",
+                n,
+                &format!("must lie in 0..={MAX_MESH_INTERVALS}"),
+            )?;
+        }
+        for (k, v) in [("threads", self.threads), ("jobs", self.jobs)] {
+            if let Some(n) = v {
+                check(
+                    (1..=MAX_THREADS).contains(&n),
+                    k,
+                    n,
+                    &format!("must lie in 1..={MAX_THREADS}"),
+                )?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -445,11 +547,99 @@ mod tests {
         let s: ProblemSettings =
             toml::from_str("[[strength]]\ngroup = \"knee\"\nscale = 0.5").unwrap();
         assert_eq!(s.validate().unwrap_err().key, "strength[0].group");
+        for (text, key) in [
+            ("speed = 1e9", "speed"),
+            ("speed = nan", "speed"),
+            ("max_contraction_velocity = inf", "max_contraction_velocity"),
+            ("mesh_intervals = 100000", "mesh_intervals"),
+            (
+                "[[coordinate_bounds]]\ncoordinate = \"q\"\nlower = nan",
+                "coordinate_bounds[0]",
+            ),
+            (
+                "[[coordinate_bounds]]\ncoordinate = \"q\"\nlower = 1.0\nupper = 0.0",
+                "coordinate_bounds[0]",
+            ),
+            ("[weights]\nmetabolic = inf", "weights.metabolic"),
+        ] {
+            let s: ProblemSettings = toml::from_str(text).unwrap();
+            let e = s.validate().unwrap_err();
+            assert_eq!(e.key, key, "{text}");
+            assert!(
+                e.reason.contains("must")
+                    || e.reason.contains("exceeds")
+                    || e.reason.contains("bound"),
+                "{e}"
+            );
+        }
+        let e = ProblemSettings {
+            speed: 1e9,
+            ..Default::default()
+        }
+        .validate()
+        .unwrap_err();
+        assert_eq!(e.to_string(), "invalid setting `speed` = 1000000000: must lie in (0, 12] m/s (human walking and running)");
         for v in ["-0.01", "0.6", "nan"] {
             let s: ProblemSettings =
                 toml::from_str(&format!("contact_friction_smoothing = {v}")).unwrap();
             let e = s.validate().unwrap_err();
             assert_eq!(e.key, "contact_friction_smoothing", "{v}");
+        }
+    }
+
+    #[test]
+    fn run_settings_are_checked_with_their_range() {
+        assert!(RunSettings::default().validate().is_ok());
+        let ok = RunSettings {
+            tol: Some(1e-4),
+            max_iter: Some(3),
+            time_limit: Some(60.0),
+            centrality_correctors: Some(2),
+            presolve_mesh: Some(0),
+            threads: Some(2),
+            jobs: Some(1),
+        };
+        ok.validate().unwrap();
+        for (bad, key) in [
+            (
+                RunSettings {
+                    max_iter: Some(0),
+                    ..ok
+                },
+                "max_iter",
+            ),
+            (
+                RunSettings {
+                    tol: Some(f64::NAN),
+                    ..ok
+                },
+                "tol",
+            ),
+            (
+                RunSettings {
+                    time_limit: Some(f64::INFINITY),
+                    ..ok
+                },
+                "time_limit",
+            ),
+            (
+                RunSettings {
+                    threads: Some(0),
+                    ..ok
+                },
+                "threads",
+            ),
+            (
+                RunSettings {
+                    jobs: Some(0),
+                    ..ok
+                },
+                "jobs",
+            ),
+        ] {
+            let e = bad.validate().unwrap_err();
+            assert_eq!(e.key, key);
+            assert!(e.reason.starts_with("must lie in"), "{e}");
         }
     }
 

@@ -391,11 +391,12 @@ pub fn report_folder_with(
 ) -> Result<Report, ReportError> {
     let study_file = folder.join("study.toml");
     let study = spec::load(&study_file)?;
-    let store = Store {
-        root: folder.to_path_buf(),
-    };
-    let records: Vec<Option<CaseRecord>> =
-        study.cases.iter().map(|c| store.record(&c.name)).collect();
+    let store = Store::at(folder);
+    let records: Vec<Option<CaseRecord>> = study
+        .cases
+        .iter()
+        .map(|c| store.record(&c.name))
+        .collect::<Result<_, _>>()?;
     let mut report = build_report(&study.header.name, &study.cases, &records);
     let table = crate::conditions::condition_table(&study, &report.selected, folder, recompute);
     // Written when at least one kept case has the measures in its summary.

@@ -188,7 +188,7 @@ impl CaseRunner for PredictRunner {
         };
         let kept = predict::select(&solved);
         let summary =
-            predict::write_results(&problem, &solved, kept, self.solver.name(), &options, dir)
+            predict::write_results_into(&problem, &solved, kept, self.solver.name(), &options, dir)
                 .map_err(err)?;
         let s = &solved[0];
         let mut outcome = CaseOutcome {

@@ -107,8 +107,10 @@ pub fn run_study(
 ) -> Result<RunSummary, StoreError> {
     let cases = &study.cases;
     let axes = varying_axes(cases);
-    let mut records: Vec<Option<CaseRecord>> =
-        cases.iter().map(|c| store.record(&c.name)).collect();
+    let mut records: Vec<Option<CaseRecord>> = cases
+        .iter()
+        .map(|c| store.record(&c.name))
+        .collect::<Result<_, _>>()?;
     if opts.retry_failed {
         for r in &mut records {
             if r.as_ref()

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use stride_ocp::settings::ProblemSettings;
+use stride_ocp::settings::{ProblemSettings, RunSettings};
 use toml::Value;
 
 /// Why a study file could not be read or expanded.
@@ -99,6 +99,23 @@ pub struct StudyHeader {
     pub solver: SolverSpec,
 }
 
+impl StudyHeader {
+    /// The solver and parallelism values of the file, for the checks shared with the
+    /// command line ([`RunSettings::validate`]).
+    pub fn run_settings(&self) -> RunSettings {
+        let s = &self.solver;
+        RunSettings {
+            tol: s.tol,
+            max_iter: s.max_iter,
+            time_limit: s.time_limit,
+            centrality_correctors: s.centrality_correctors,
+            presolve_mesh: s.presolve_mesh,
+            threads: Some(self.threads_per_case),
+            jobs: Some(self.jobs),
+        }
+    }
+}
+
 fn one() -> usize {
     1
 }
@@ -158,12 +175,25 @@ struct RawFile {
 
 /// Read, expand and validate a study file.
 pub fn load(path: &Path) -> Result<Study, SpecError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SpecError::Read {
+    let read_err = |reason: String| SpecError::Read {
         file: path.display().to_string(),
-        reason: e.to_string(),
+        reason,
+    };
+    let bytes = stride_model::storage::read_limited(path, MAX_STUDY_FILE_BYTES)
+        .map_err(|e| read_err(e.to_string()))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count();
+        read_err(format!("line {line}: not UTF-8 text"))
     })?;
     parse(&text, path)
 }
+
+/// Most cases a study may expand to.
+pub const MAX_CASES: usize = 10_000;
+
+/// Largest study file read [bytes].
+pub const MAX_STUDY_FILE_BYTES: u64 = 16 << 20;
 
 /// Format a grid value for a case name (floats without trailing zeros).
 fn value_label(v: &Value) -> String {
@@ -237,12 +267,10 @@ pub fn parse(text: &str, path: &Path) -> Result<Study, SpecError> {
         file: file.clone(),
         reason,
     };
-    if h.jobs == 0 || h.threads_per_case == 0 {
-        return Err(SpecError::Parse {
-            file: file.clone(),
-            reason: "[study] `jobs` and `threads_per_case` must be at least 1".into(),
-        });
-    }
+    h.run_settings().validate().map_err(|e| SpecError::Parse {
+        file: file.clone(),
+        reason: format!("[study]: {e}"),
+    })?;
     let base = raw.base.unwrap_or_default();
     // The base alone must be valid settings (typos are reported against [base]).
     let base_settings: ProblemSettings =
@@ -323,7 +351,18 @@ pub fn parse(text: &str, path: &Path) -> Result<Study, SpecError> {
     }
     axes.sort_by(|a, b| a.0.cmp(&b.0));
 
-    // Cartesian product of axes × conditions (no condition: one unnamed).
+    // Cartesian product of axes × conditions (no condition: one unnamed), bounded.
+    let count = axes
+        .iter()
+        .map(|(_, v)| v.len())
+        .chain([conditions.len().max(1), guesses.len()])
+        .try_fold(1usize, |n, k| n.checked_mul(k))
+        .filter(|&n| n <= MAX_CASES);
+    if count.is_none() {
+        return Err(grid_err(format!(
+            "the grid expands to more than {MAX_CASES} cases; split the study"
+        )));
+    }
     let mut combos: Vec<(Vec<usize>, Option<usize>)> = vec![(vec![], None)];
     for (_, values) in &axes {
         combos = combos

@@ -7,12 +7,19 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use stride_model::lock::{FileLock, LockError, LockMode};
+use stride_model::result_dir::{self, OutputError, ResultKind};
 use stride_model::storage::write_atomic;
 
 /// File marking a finished case (its record, written last inside the case folder).
 pub const CASE_RECORD: &str = "case.json";
 /// File holding the hash of the study file an output folder was made from.
 pub const STUDY_HASH: &str = "study.hash";
+/// Lock file of a study output folder: a whole-study run holds it exclusively (its process
+/// id written inside); a runner of single cases would hold it shared, together with an
+/// exclusive lock on the case (`cases/.<case>.lock`).
+pub const STUDY_LOCK: &str = ".lock";
 
 /// Why the output folder could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -38,6 +45,27 @@ pub enum StoreError {
     /// The selected cases cannot run on their own.
     #[error("{0}")]
     Selection(String),
+    /// The output folder cannot hold a study.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// Another process runs a study in the folder.
+    #[error("{folder}: another stride process{} is running a study in this folder; wait for it to finish or use another output folder", .holder.map(|p| format!(" (process id {p})")).unwrap_or_default())]
+    Busy {
+        /// Output folder.
+        folder: String,
+        /// Process id of the holder, when known.
+        holder: Option<u32>,
+    },
+    /// A case record that cannot be read.
+    #[error(
+        "{path}: corrupt case record ({reason}); remove the case folder to run the case again"
+    )]
+    Corrupt {
+        /// Record file.
+        path: String,
+        /// Why.
+        reason: String,
+    },
 }
 
 pub(crate) fn io_err(path: &Path, e: impl ToString) -> StoreError {
@@ -147,17 +175,51 @@ pub fn fnv1a64(bytes: &[u8]) -> String {
     format!("{h:016x}")
 }
 
-/// Paths of a study output folder.
+/// Paths of a study output folder, and the lock of the run writing it.
 #[derive(Clone, Debug)]
 pub struct Store {
     /// Output folder.
     pub root: PathBuf,
+    /// The folder's lock, held while this store (or a clone) exists; `None` for a
+    /// read-only view.
+    lock: Option<Arc<FileLock>>,
+}
+
+/// Take the exclusive lock of the study output folder `root` (which exists).
+pub fn lock_study(root: &Path) -> Result<FileLock, StoreError> {
+    FileLock::try_lock(&root.join(STUDY_LOCK), LockMode::Exclusive).map_err(|e| match e {
+        LockError::Held { holder, .. } => StoreError::Busy {
+            folder: root.display().to_string(),
+            holder,
+        },
+        LockError::Io { path, reason } => StoreError::Io { path, reason },
+    })
 }
 
 impl Store {
-    /// Open (creating if needed) the output folder of `study`; refuse a folder made from a
-    /// different study file unless `force`; remove temporary folders left by killed runs.
+    /// A read-only view of the study output folder `root` (reports): no lock is taken.
+    pub fn at(root: &Path) -> Self {
+        Self {
+            root: root.to_path_buf(),
+            lock: None,
+        }
+    }
+
+    /// Whether this store holds the folder's lock.
+    pub fn is_locked(&self) -> bool {
+        self.lock.is_some()
+    }
+
+    /// Open (creating if needed) the output folder of `study` for a run: refuse a folder
+    /// that is not a study folder ([`result_dir::inspect`]), one in use by another process
+    /// (the lock is held as long as the store exists), or one made from a different study
+    /// file unless `force`; then remove the temporary folders of killed runs.
     pub fn open(root: &Path, study: &Study, force: bool) -> Result<Self, StoreError> {
+        result_dir::inspect(root, ResultKind::Study)?;
+        result_dir::check_writable(root)?;
+        let cases = root.join("cases");
+        std::fs::create_dir_all(&cases).map_err(|e| io_err(&cases, e))?;
+        let lock = lock_study(root)?;
         let hash = fnv1a64(study.source_text.as_bytes());
         let hash_file = root.join(STUDY_HASH);
         if let Ok(found) = std::fs::read_to_string(&hash_file) {
@@ -172,14 +234,17 @@ impl Store {
         }
         let store = Self {
             root: root.to_path_buf(),
+            lock: Some(Arc::new(lock)),
         };
-        let cases = store.cases_dir();
-        std::fs::create_dir_all(&cases).map_err(|e| io_err(&cases, e))?;
+        result_dir::write_marker(root, ResultKind::Study).map_err(|e| io_err(root, e))?;
         write_atomic(&hash_file, format!("{hash}\n").as_bytes())
             .map_err(|e| io_err(&hash_file, e))?;
         let copy = root.join("study.toml");
         write_atomic(&copy, study.source_text.as_bytes()).map_err(|e| io_err(&copy, e))?;
-        // Temporary folders of cases in flight when a previous run was killed.
+        // Temporary files and case folders of killed runs (no other run can be in flight:
+        // this one holds the lock).
+        result_dir::clean_stale(root);
+        result_dir::clean_stale(&cases);
         if let Ok(rd) = std::fs::read_dir(&cases) {
             for e in rd.flatten() {
                 let n = e.file_name().to_string_lossy().to_string();
@@ -201,21 +266,27 @@ impl Store {
         self.cases_dir().join(name)
     }
 
-    /// A fresh temporary folder for a case in flight.
+    /// A fresh staging folder for a case in flight (`cases/.<name>.partial-<pid>`), into
+    /// which the case's result files are written once.
     pub fn temp_dir(&self, name: &str) -> Result<PathBuf, StoreError> {
-        let p = self
-            .cases_dir()
-            .join(format!(".tmp-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&p);
-        std::fs::create_dir_all(&p).map_err(|e| io_err(&p, e))?;
-        Ok(p)
+        let dst = self.case_dir(name);
+        result_dir::stage(&dst, "partial", ResultKind::Prediction).map_err(|e| io_err(&dst, e))
     }
 
-    /// The record of a finished case, if any.
-    pub fn record(&self, name: &str) -> Option<CaseRecord> {
+    /// The record of a finished case (`None`: not run); an unreadable record is an error.
+    pub fn record(&self, name: &str) -> Result<Option<CaseRecord>, StoreError> {
         let p = self.case_dir(name).join(CASE_RECORD);
-        let text = std::fs::read_to_string(p).ok()?;
-        serde_json::from_str(&text).ok()
+        let text = match std::fs::read_to_string(&p) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(io_err(&p, e)),
+            Ok(t) => t,
+        };
+        serde_json::from_str(&text)
+            .map(Some)
+            .map_err(|e| StoreError::Corrupt {
+                path: p.display().to_string(),
+                reason: e.to_string(),
+            })
     }
 
     /// Write the record into `tmp` (last) and move `tmp` to the case's final folder.
@@ -224,7 +295,7 @@ impl Store {
         let json = serde_json::to_string_pretty(record).map_err(|e| io_err(&p, e))?;
         write_atomic(&p, json.as_bytes()).map_err(|e| io_err(&p, e))?;
         let dst = self.case_dir(&record.name);
-        stride_model::storage::replace_dir(tmp, &dst).map_err(|e| io_err(&dst, e))
+        result_dir::commit(tmp, &dst).map_err(|e| io_err(&dst, e))
     }
 
     /// Rewrite `index.csv` atomically: one row per case, finished or not.

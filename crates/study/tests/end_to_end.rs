@@ -64,7 +64,7 @@ guesses = ["quasi-random", "full-os", "partial-os"]
     .unwrap();
     assert_eq!(summary.ran, 4);
     for name in ["speed_1.33__qr", "speed_1.43__fos", "speed_1.43__pos"] {
-        let r = store.record(name).unwrap();
+        let r = store.record(name).unwrap().unwrap();
         assert!(r.iterations.is_some(), "{name}: {}", r.reason);
         assert!(r.solution_written, "{name}");
         assert!(out.join("cases").join(name).join(SOLUTION_FILE).exists());
@@ -105,7 +105,7 @@ guesses = ["quasi-random", "full-os", "partial-os"]
             "{name}"
         );
     }
-    let fos = store.record("speed_1.43__fos").unwrap();
+    let fos = store.record("speed_1.43__fos").unwrap().unwrap();
     assert_eq!(fos.continued_from.as_deref(), Some("speed_1.33__qr"));
     let report = stride_study::analysis::report_folder(&out).unwrap();
     assert_eq!(report.cases, 4);

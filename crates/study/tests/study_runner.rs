@@ -268,7 +268,7 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
     let pos_233 = &calls[pos("speed_2.33__hip50__pos")];
     assert_eq!(pos_233.1.as_deref(), Some("speed_1.43__hip50__pos"));
     // Records, result files and the index.
-    let r = store.record("speed_2.33__hip50__qr").unwrap();
+    let r = store.record("speed_2.33__hip50__qr").unwrap().unwrap();
     assert_eq!(r.status, CaseStatus::Failed);
     assert!(r.reason.contains("fake panic"), "{}", r.reason);
     assert!(out
@@ -282,6 +282,12 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
         .unwrap()
         .starts_with("name,condition,speed,guess,status"));
     assert!(index.contains("speed_1.23__nominal__fos,nominal,1.23,full-os,failed,MaxIterations"));
+    // While a run holds the folder, another is refused naming its process id.
+    match Store::open(&out, &study, false) {
+        Err(StoreError::Busy { holder, .. }) => assert_eq!(holder, Some(std::process::id())),
+        other => panic!("{other:?}"),
+    }
+    drop(store);
     // Rerun: nothing to do. A killed run's temporary folder is cleaned.
     std::fs::create_dir_all(out.join("cases/.tmp-speed_1.13__nominal__qr-999")).unwrap();
     let store = Store::open(&out, &study, false).unwrap();
@@ -309,6 +315,7 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
     .unwrap();
     assert_eq!((s4.ran, s4.failed), (2, 0));
     // Another study file into the same folder is refused unless forced.
+    drop(store);
     let other = spec::parse(&SMALL.replace("jobs = 2", "jobs = 1"), Path::new("o.toml")).unwrap();
     match Store::open(&out, &other, false) {
         Err(StoreError::OtherStudy { .. }) => {}
@@ -397,7 +404,7 @@ speed = [0.73, 0.93, 1.13, 1.33, 1.53, 1.73, 1.93, 2.13, 2.33, 2.53, 2.73]
     let total: f64 = study
         .cases
         .iter()
-        .map(|c| store.record(&c.name).unwrap().time_s)
+        .map(|c| store.record(&c.name).unwrap().unwrap().time_s)
         .sum();
     assert!(total > 0.0 && (report.case_time_s - total).abs() < 1e-12);
     assert_eq!(report.selected.len(), 11);

@@ -15,6 +15,7 @@
 
 mod forces;
 mod functions;
+mod input;
 mod skeleton;
 mod wrap;
 mod xml;
@@ -23,6 +24,12 @@ use crate::model::{Model, UnsupportedElement};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use xml::{child, elements, objects, tag, text, Ctx};
+
+pub use input::MAX_XML_DEPTH;
+
+/// Largest `.osim` file read [bytes] (OpenSim models are a few MB; parsing takes about ten
+/// times the file size in memory).
+pub const MAX_OSIM_BYTES: u64 = 64 << 20;
 
 /// Errors of the `.osim` importer; messages name the file, line and element path.
 #[derive(Debug, thiserror::Error)]
@@ -62,19 +69,29 @@ pub enum OsimError {
     },
 }
 
-/// Read an OpenSim model file (`Version` 30000–4xxxx) into a [`Model`].
+/// Read an OpenSim model file (`Version` 30000–4xxxx, at most [`MAX_OSIM_BYTES`], UTF-8 or
+/// declared ISO-8859-1) into a [`Model`].
 pub fn load_osim(path: &Path) -> Result<Model, OsimError> {
-    let text = std::fs::read_to_string(path).map_err(|error| OsimError::Io {
-        path: path.to_path_buf(),
-        error,
-    })?;
-    let mut model = parse_osim(&text, &path.display().to_string())?;
+    let bytes =
+        crate::storage::read_limited(path, MAX_OSIM_BYTES).map_err(|error| OsimError::Io {
+            path: path.to_path_buf(),
+            error,
+        })?;
+    let mut model = parse_osim_bytes(&bytes, &path.display().to_string())?;
     model.source_file = Some(path.to_path_buf());
     Ok(model)
 }
 
-/// Parse the text of an OpenSim model; `source_name` labels error messages.
+/// Parse the bytes of an OpenSim model (UTF-8, or ISO-8859-1 when declared);
+/// `source_name` labels error messages.
+pub fn parse_osim_bytes(bytes: &[u8], source_name: &str) -> Result<Model, OsimError> {
+    parse_osim(&input::decode(bytes, source_name)?, source_name)
+}
+
+/// Parse the text of an OpenSim model (elements nested at most [`MAX_XML_DEPTH`] deep);
+/// `source_name` labels error messages.
 pub fn parse_osim(text_in: &str, source_name: &str) -> Result<Model, OsimError> {
+    input::check_depth(text_in, MAX_XML_DEPTH, source_name)?;
     let opts = roxmltree::ParsingOptions {
         allow_dtd: true,
         ..Default::default()

@@ -327,6 +327,16 @@ pub(crate) fn read_skeleton<'a, 'i>(
                 Some(rn) if !text(rn).is_empty() => ctx.arr_of::<2>(rn)?,
                 _ => [f64::NEG_INFINITY, f64::INFINITY],
             };
+            if range[0].is_nan() || range[1].is_nan() || range[0] > range[1] {
+                let rn = child(*c, "range").unwrap_or(*c);
+                return Err(ctx.err(
+                    rn,
+                    format!(
+                        "coordinate range [{}, {}] needs two numbers with min ≤ max",
+                        range[0], range[1]
+                    ),
+                ));
+            }
             let motion_type = if v4 {
                 infer_motion_type(r.el, name, r.coords.iter().position(|e| e == c))
             } else {

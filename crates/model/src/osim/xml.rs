@@ -32,6 +32,10 @@ impl<'a, 'input> Ctx<'a, 'input> {
             })
             .collect();
         parts.reverse();
+        if parts.is_empty() {
+            // the document's root element itself
+            return n.tag_name().name().to_string();
+        }
         parts.join("/")
     }
 

@@ -1,0 +1,138 @@
+//! Advisory file locks (`flock`, Linux and macOS) that say who holds them: the holder of an
+//! exclusive lock writes its process id into the lock file, so that a refused process can
+//! name it. The system releases a lock when its holder exits, also on `kill -9`.
+
+use std::fs::File;
+use std::io::{Read as _, Seek as _, Write as _};
+use std::os::fd::AsRawFd as _;
+use std::path::{Path, PathBuf};
+
+/// A lock held on a file until dropped.
+#[derive(Debug)]
+pub struct FileLock {
+    file: File,
+    path: PathBuf,
+    mode: LockMode,
+}
+
+/// Why a lock was not taken.
+#[derive(Debug, thiserror::Error)]
+pub enum LockError {
+    /// Another process holds the lock.
+    #[error("{path}: in use by another stride process{}", .holder.map(|p| format!(" (process id {p})")).unwrap_or_default())]
+    Held {
+        /// Lock file.
+        path: String,
+        /// Process id written by the holder, when known.
+        holder: Option<u32>,
+    },
+    /// The lock file could not be opened or locked.
+    #[error("{path}: cannot lock ({reason})")]
+    Io {
+        /// Lock file.
+        path: String,
+        /// The system's reason.
+        reason: String,
+    },
+}
+
+/// How a lock is shared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LockMode {
+    /// One holder, no shared holders (e.g. a whole-study run).
+    Exclusive,
+    /// Any number of shared holders, no exclusive one (e.g. runners of single cases, each
+    /// of which also takes an exclusive lock on its case).
+    Shared,
+}
+
+impl FileLock {
+    /// Take the lock on `path` (created if missing) without waiting; an exclusive holder
+    /// records its process id in the file.
+    pub fn try_lock(path: &Path, mode: LockMode) -> Result<FileLock, LockError> {
+        let io = |e: std::io::Error| LockError::Io {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        };
+        let mut file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(path)
+            .map_err(io)?;
+        let op = match mode {
+            LockMode::Exclusive => libc::LOCK_EX,
+            LockMode::Shared => libc::LOCK_SH,
+        } | libc::LOCK_NB;
+        // SAFETY: flock on a file descriptor this function owns.
+        if unsafe { libc::flock(file.as_raw_fd(), op) } != 0 {
+            let e = std::io::Error::last_os_error();
+            if e.raw_os_error() != Some(libc::EWOULDBLOCK) {
+                return Err(io(e));
+            }
+            let mut text = String::new();
+            let _ = file.read_to_string(&mut text);
+            return Err(LockError::Held {
+                path: path.display().to_string(),
+                holder: text.trim().parse().ok(),
+            });
+        }
+        if mode == LockMode::Exclusive {
+            file.set_len(0).map_err(io)?;
+            file.rewind().map_err(io)?;
+            writeln!(file, "{}", std::process::id()).map_err(io)?;
+            file.flush().map_err(io)?;
+        }
+        Ok(FileLock {
+            file,
+            path: path.to_path_buf(),
+            mode,
+        })
+    }
+
+    /// The lock file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for FileLock {
+    fn drop(&mut self) {
+        if self.mode == LockMode::Exclusive {
+            // the process id is stale from now on
+            let _ = self.file.set_len(0);
+        }
+        // SAFETY: unlocking the descriptor owned by this lock (closing it would as well).
+        unsafe {
+            libc::flock(self.file.as_raw_fd(), libc::LOCK_UN);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_second_exclusive_lock_is_refused_with_the_holder_and_freed_on_drop() {
+        let p = std::env::temp_dir().join(format!("stride-lock-{}", std::process::id()));
+        let held = FileLock::try_lock(&p, LockMode::Exclusive).unwrap();
+        // flock locks belong to the open file: a second open in this process conflicts too
+        let e = FileLock::try_lock(&p, LockMode::Exclusive).unwrap_err();
+        assert!(
+            matches!(e, LockError::Held { holder: Some(pid), .. } if pid == std::process::id()),
+            "{e}"
+        );
+        assert!(e
+            .to_string()
+            .contains(&format!("process id {}", std::process::id())));
+        assert!(FileLock::try_lock(&p, LockMode::Shared).is_err());
+        drop(held);
+        let a = FileLock::try_lock(&p, LockMode::Shared).unwrap();
+        let b = FileLock::try_lock(&p, LockMode::Shared).unwrap();
+        assert!(FileLock::try_lock(&p, LockMode::Exclusive).is_err());
+        drop((a, b));
+        std::fs::remove_file(&p).unwrap();
+    }
+}
