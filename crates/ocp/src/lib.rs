@@ -24,5 +24,6 @@ pub mod radau;
 pub mod settings;
 pub mod solution;
 pub mod tape_node;
+pub mod tracking;
 pub mod trajectory;
 pub mod transcription;
