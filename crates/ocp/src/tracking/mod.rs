@@ -154,17 +154,21 @@ fn widen((lo, hi): (f64, f64), k: f64) -> Range {
     }
 }
 
-/// Scale of each GRF/GRT component: max |bound| of the measured range widened by one range.
+/// Scale of each GRF/GRT component: max |bound| of the measured range widened by one range,
+/// at least a hundredth of the largest component's (a foot without load in the window would
+/// otherwise divide its errors by almost nothing).
 fn component_scales(samples: &[Sample], pick: impl Fn(&Sample) -> [f64; 6]) -> [f64; 6] {
-    std::array::from_fn(|c| {
+    let s: [f64; 6] = std::array::from_fn(|c| {
         let (lo, hi) = samples
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| {
                 (lo.min(pick(s)[c]), hi.max(pick(s)[c]))
             });
         let r = widen((lo, hi), 1.0);
-        r.lo.abs().max(r.hi.abs()).max(1e-6)
-    })
+        r.lo.abs().max(r.hi.abs())
+    });
+    let floor = 0.01 * s.iter().copied().fold(1e-6, f64::max);
+    s.map(|v| v.max(floor))
 }
 
 impl TrackingProblem {
