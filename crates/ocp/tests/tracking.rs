@@ -58,7 +58,6 @@ fn tracking_derivatives_match_finite_differences() {
             obj_factor: 0.7,
             tol: 1e-4,
             step,
-            ..Default::default()
         },
     )
     .unwrap();

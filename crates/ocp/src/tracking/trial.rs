@@ -152,9 +152,11 @@ fn interp<const N: usize>(time: &[f64], t: f64, row: impl Fn(usize) -> [f64; N])
 
 /// Checks that `window` lies inside the times of `file`.
 fn check_window(file: &str, time: &[f64], window: [f64; 2]) -> Result<(), TrialError> {
-    let (d0, d1) = (time[0], time[time.len() - 1]);
+    let d0 = time.first().copied().unwrap_or(f64::NAN);
+    let d1 = time.last().copied().unwrap_or(f64::NAN);
     let [t0, t1] = window;
-    if time.len() < 2 || !(t0 < t1) || t0 < d0 - 1e-9 || t1 > d1 + 1e-9 {
+    let inside = time.len() >= 2 && t0 < t1 && t0 >= d0 - 1e-9 && t1 <= d1 + 1e-9;
+    if !inside {
         return Err(TrialError::Window {
             file: file.into(),
             t0,
