@@ -11,6 +11,7 @@ mod paths_cmd;
 mod predict_cmd;
 mod progress;
 mod study_cmd;
+mod track_cmd;
 mod view_cmd;
 
 use clap::{Parser, Subcommand};
@@ -40,6 +41,9 @@ enum Command {
     /// Rewrite result folders (motion, tables, figures, outcomes) from their kept solution
     /// with the current definitions.
     Rewrite(predict_cmd::RewriteArgs),
+    /// Track measured joint angles, ground reaction forces and joint torques (the paper's
+    /// TrackSim of trial gait_1 with no arguments).
+    Track(track_cmd::TrackArgs),
     /// Run every case of a study file (parallel, resumable) and report.
     Study(study_cmd::StudyArgs),
     /// Analyse a study output folder (walk/run, transition speed, fits).
@@ -65,6 +69,7 @@ fn main() {
         Command::Data(cmd) => data_cmd::run(cmd),
         Command::Predict(args) => predict_cmd::run(args),
         Command::Rewrite(args) => predict_cmd::rewrite(args),
+        Command::Track(args) => track_cmd::run(args),
         Command::Study(args) => study_cmd::run(args),
         Command::Report(args) => study_cmd::report(args),
         Command::View(args) => view_cmd::run(args),

@@ -271,10 +271,14 @@ pub(crate) fn parse_guesses(list: &[String]) -> anyhow::Result<Vec<GuessKind>> {
 /// folder, or a previous prediction result replaced with `force`. When the default folder
 /// holds a result (and no `force`), the next free numbered name is used and said on stderr;
 /// a given folder holding a result is an error. Stale staging folders beside it are removed.
-fn output_folder(given: Option<PathBuf>, speed: f64, force: bool) -> anyhow::Result<PathBuf> {
+pub(crate) fn output_folder(
+    given: Option<PathBuf>,
+    default: PathBuf,
+    force: bool,
+) -> anyhow::Result<PathBuf> {
     let (out, is_default) = match given {
         Some(p) => (p, false),
-        None => (PathBuf::from(format!("out/predict_{speed:.2}")), true),
+        None => (default, true),
     };
     let out = match result_dir::inspect(&out, ResultKind::Prediction)? {
         Existing::Free => out,
@@ -348,7 +352,8 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         guesses.len(),
         "the guesses solved at once",
     )?;
-    let out = output_folder(args.out.or(study.output), settings.speed, args.force)?;
+    let default_out = PathBuf::from(format!("out/predict_{:.2}", settings.speed));
+    let out = output_folder(args.out.or(study.output), default_out, args.force)?;
     let quiet = args.quiet;
     let board = crate::progress::ProgressBoard::new(&guesses, options.tol / 10.0);
     let progress = |src: predict::ProgressSource, r: &stride_solve::solver::IterationRecord| {

@@ -28,5 +28,6 @@ pub mod settings;
 pub mod size;
 pub mod solution;
 pub mod tape_node;
+pub mod tracking;
 pub mod trajectory;
 pub mod transcription;

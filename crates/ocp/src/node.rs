@@ -63,6 +63,9 @@ pub struct NodeModel {
     weights: crate::settings::Weights,
     body_mass: f64,
     activation: ActivationDynamics,
+    /// Tracking terms: the cost tracks measured data given as constant inputs after the
+    /// variable inputs, and the root residuals equal measured values (`None`: prediction).
+    tracking: Option<crate::tracking::TrackingTerms>,
 }
 
 /// Number of path-constraint outputs and their order.
@@ -228,7 +231,20 @@ impl NodeModel {
                 tau_deactivation: TAU_DEACTIVATION,
             },
             model,
+            tracking: None,
         })
+    }
+
+    /// The node function of a tracking problem: the same model, with the cost and root
+    /// residual targets of `terms`.
+    pub fn with_tracking(mut self, terms: crate::tracking::TrackingTerms) -> Self {
+        self.tracking = Some(terms);
+        self
+    }
+
+    /// Number of inputs: the variable inputs and the tracking constants.
+    pub fn n_inputs(&self) -> usize {
+        self.inputs.len() + self.tracking.as_ref().map_or(0, |t| t.n_data())
     }
 
     /// Sizes of the path-constraint outputs.
@@ -349,8 +365,11 @@ impl NodeModel {
         .expect("skeleton workspace sized at construction");
         let tau = &ws.skeleton.tau;
         let mut out = 0;
-        for &i in &self.root {
-            y[out] = tau[self.coord_model[i]];
+        for (r, &i) in self.root.iter().enumerate() {
+            y[out] = match &self.tracking {
+                Some(t) => tau[self.coord_model[i]] - x[io.len() + t.root_offset() + r],
+                None => tau[self.coord_model[i]],
+            };
             out += 1;
         }
         let mut sum_tp2 = T::zero();
@@ -391,6 +410,21 @@ impl NodeModel {
             let p0 = ws.skeleton.body_origins[b0];
             let p1 = ws.skeleton.body_origins[b1];
             y[o.distance() + k] = (p0[0] - p1[0]).sq() + (p0[2] - p1[2]).sq();
+        }
+        if let Some(t) = &self.tracking {
+            let slack = (sum_da2 / nm as f64 + sum_df2 / nm as f64) * t.weights.slack_controls;
+            let tracked = crate::tracking::TrackedModel {
+                x,
+                data: &x[io.len()..],
+                q_offset: io.q(),
+                qdd_offset: io.qdd(),
+                nq: io.nq,
+                tau: &self.coord_model.iter().map(|&c| tau[c]).collect::<Vec<T>>(),
+                force: &ws.skeleton.group_force,
+                moment: &ws.skeleton.group_moment,
+            };
+            y[o.n_path()] = t.cost(&tracked, sum_a2 / nm as f64) + slack;
+            return;
         }
         // Cost integrand (means over the elements of each norm; accelerations scaled).
         let mut sum_acc2 = T::zero();

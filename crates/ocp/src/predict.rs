@@ -568,7 +568,7 @@ pub(crate) fn read_err(path: &Path, e: impl ToString) -> PredictError {
 }
 
 /// The iteration log as CSV (one header line, one line per iteration).
-fn log_csv(records: &[IterationRecord]) -> String {
+pub(crate) fn log_csv(records: &[IterationRecord]) -> String {
     let mut log =
         String::from("iter,objective,inf_pr,inf_du,mu,alpha_pr,alpha_du,regularisation,line_search_trials,factorisations,elapsed_s\n");
     for r in records {

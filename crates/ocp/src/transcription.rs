@@ -278,6 +278,24 @@ impl Cache {
     }
 }
 
+/// What makes a transcription a tracking problem (FORMULATION 12.6): the node function
+/// takes `n_data` constant inputs after its variable inputs (the measured quantities at that
+/// collocation point), the duration is fixed, there is neither a symmetry, periodicity nor
+/// speed constraint, and the cost is the quadrature of L over time (not divided by the
+/// distance walked).
+#[derive(Clone, Debug)]
+pub struct TrackingData {
+    /// Constant node inputs of every collocation point (point-major, `n_data` each).
+    pub node_data: Vec<f64>,
+    /// Constant inputs per collocation point.
+    pub n_data: usize,
+    /// Fixed duration t_f [s].
+    pub duration: f64,
+}
+
+/// Marks a node Hessian entry that involves a constant input (not scattered).
+const NO_SLOT: usize = usize::MAX;
+
 /// The transcribed problem: implements [`Nlp`].
 pub struct Transcription<F: NodeFunction> {
     /// The problem.
@@ -318,18 +336,32 @@ pub struct Transcription<F: NodeFunction> {
     cache: Mutex<Cache>,
     /// Node Hessian values of the last Hessian evaluation (reused, not reallocated).
     node_hessians: Mutex<Vec<f64>>,
+    /// Tracking problem data (`None`: the predictive problem).
+    tracking: Option<TrackingData>,
 }
 
 impl<F: NodeFunction> Transcription<F> {
     /// Transcribe `problem` with the node function `node`, starting from `x0`.
     pub fn new(problem: GaitProblem, node: F, x0: Vec<f64>) -> Self {
+        Self::build(problem, node, x0, None)
+    }
+
+    /// Transcribe the tracking problem `problem` with the node function `node` (whose
+    /// inputs end with `tracking.n_data` constants), starting from `x0`.
+    pub fn tracking(problem: GaitProblem, node: F, x0: Vec<f64>, tracking: TrackingData) -> Self {
+        Self::build(problem, node, x0, Some(tracking))
+    }
+
+    fn build(problem: GaitProblem, node: F, x0: Vec<f64>, tracking: Option<TrackingData>) -> Self {
         let l = problem.layout.clone();
         let inputs = NodeInputs {
             nm: l.nm,
             nq: l.nq,
             na: l.na,
         };
-        assert_eq!(node.n_inputs(), inputs.len(), "node function inputs");
+        let n_data = tracking.as_ref().map_or(0, |t| t.n_data);
+        let n_var = inputs.len();
+        assert_eq!(node.n_inputs(), n_var + n_data, "node function inputs");
         let n_out = node.n_outputs();
         let n_path = n_out - 1;
         let n_nodes = 3 * l.n;
@@ -353,13 +385,13 @@ impl<F: NodeFunction> Transcription<F> {
         let cost_entries: Vec<usize> = node_jac_pattern
             .iter()
             .enumerate()
-            .filter(|(_, &(o, _))| o == n_path)
+            .filter(|(_, &(o, i))| o == n_path && i < n_var)
             .map(|(e, _)| e)
             .collect();
         // The node entries that are constraint values (all but the cost row's), written
         // node after node from the first Jacobian position on.
         let node_constraints: Vec<usize> = (0..node_jac_pattern.len())
-            .filter(|&e| node_jac_pattern[e].0 < n_path)
+            .filter(|&e| node_jac_pattern[e].0 < n_path && node_jac_pattern[e].1 < n_var)
             .collect();
         let node_jac_start = jacobian.nnz();
         let mut linear_rows = Vec::new();
@@ -421,7 +453,11 @@ impl<F: NodeFunction> Transcription<F> {
                 jacobian.push(base + ns + o, g[inp]);
             }
             for &(r, cc) in &node_hess_pattern {
-                node_hess_pos.push(hb.slot(g[r], g[cc]));
+                node_hess_pos.push(if r < n_var && cc < n_var {
+                    hb.slot(g[r], g[cc])
+                } else {
+                    NO_SLOT
+                });
             }
             for &e in &cost_entries {
                 let u = g[node_jac_pattern[e].1];
@@ -450,8 +486,9 @@ impl<F: NodeFunction> Transcription<F> {
                 row += 1;
             }
         }
-        // Symmetry (half cycle) or periodicity (full cycle).
+        // Symmetry (half cycle) or periodicity (full cycle); none when tracking.
         let half = problem.is_half_cycle();
+        let boundary = tracking.is_none();
         let last = Point::Mesh(l.n);
         let first = Point::Mesh(0);
         let mut pair = |a: usize, b: usize, sign: f64, row: &mut usize| {
@@ -475,7 +512,7 @@ impl<F: NodeFunction> Transcription<F> {
         let gait = &problem.gait;
         let arm_coords = gait.actuator_driven();
         for (i, gc) in gait.coordinates.iter().enumerate() {
-            if i == tx {
+            if i == tx || !boundary {
                 continue;
             }
             let (m, sg) = if half {
@@ -485,7 +522,7 @@ impl<F: NodeFunction> Transcription<F> {
             };
             pair(l.q(last, i), l.q(first, m), sg, &mut row);
         }
-        for (i, gc) in gait.coordinates.iter().enumerate() {
+        for (i, gc) in gait.coordinates.iter().enumerate().filter(|_| boundary) {
             let (m, sg) = if half {
                 (gc.mirror, gc.mirror_sign)
             } else {
@@ -493,15 +530,15 @@ impl<F: NodeFunction> Transcription<F> {
             };
             pair(l.v(last, i), l.v(first, m), sg, &mut row);
         }
-        for m in 0..l.nm {
+        for m in (0..l.nm).filter(|_| boundary) {
             let pm = if half { gait.muscle_mirror[m] } else { m };
             pair(l.a(last, m), l.a(first, pm), 1.0, &mut row);
         }
-        for m in 0..l.nm {
+        for m in (0..l.nm).filter(|_| boundary) {
             let pm = if half { gait.muscle_mirror[m] } else { m };
             pair(l.f(last, m), l.f(first, pm), 1.0, &mut row);
         }
-        for (ai, &ci) in arm_coords.iter().enumerate() {
+        for (ai, &ci) in arm_coords.iter().enumerate().filter(|_| boundary) {
             let pm = if half {
                 let mc = gait.coordinates[ci].mirror;
                 arm_coords.iter().position(|&x| x == mc).unwrap_or(ai)
@@ -510,8 +547,9 @@ impl<F: NodeFunction> Transcription<F> {
             };
             pair(l.arm(last, ai), l.arm(first, pm), 1.0, &mut row);
         }
+        // (a tracking problem has no speed row: its index is one past the last constraint)
         let speed_row = row;
-        let n_constraints = row + 1;
+        let n_constraints = if boundary { row + 1 } else { row };
         // Jacobian entries of linear rows.
         let mut linear_jac_pos = Vec::with_capacity(linear_rows.len());
         let mut linear_hess_pos = Vec::with_capacity(linear_rows.len());
@@ -535,11 +573,15 @@ impl<F: NodeFunction> Transcription<F> {
             linear_jac_pos.push(pos);
             linear_hess_pos.push(hpos);
         }
-        let speed_pos = [
-            jacobian.push(speed_row, txn),
-            jacobian.push(speed_row, tx0),
-            jacobian.push(speed_row, tf),
-        ];
+        let speed_pos = if boundary {
+            [
+                jacobian.push(speed_row, txn),
+                jacobian.push(speed_row, tx0),
+                jacobian.push(speed_row, tf),
+            ]
+        } else {
+            [NO_SLOT; 3]
+        };
         let hess_speed_pos = [hb.slot(txn, tf), hb.slot(tx0, tf), hb.slot(tf, tf)];
         let hess_cost_pos = [
             hb.slot(tf, txn),
@@ -559,8 +601,10 @@ impl<F: NodeFunction> Transcription<F> {
                 constraint_hi[base + o] = hi;
             }
         }
-        constraint_lo[speed_row] = problem.settings.speed;
-        constraint_hi[speed_row] = problem.settings.speed;
+        if boundary {
+            constraint_lo[speed_row] = problem.settings.speed;
+            constraint_hi[speed_row] = problem.settings.speed;
+        }
         let jac_fill = JacobianFill::new(
             node_jac_pattern.len(),
             &node_constraints,
@@ -598,6 +642,7 @@ impl<F: NodeFunction> Transcription<F> {
             txn,
             cache: Mutex::new(Cache::default()),
             node_hessians: Mutex::new(Vec::new()),
+            tracking,
         }
     }
 
@@ -615,11 +660,29 @@ impl<F: NodeFunction> Transcription<F> {
         &self.node
     }
 
-    /// Inputs of node `i` gathered from the NLP vector.
+    /// Inputs of node `i` gathered from the NLP vector (and its constants when tracking).
     fn gather(&self, x: &[f64], i: usize, out: &mut [f64]) {
         let n = self.inputs.len();
         for (o, &g) in out.iter_mut().zip(&self.node_globals[i * n..(i + 1) * n]) {
             *o = x[g];
+        }
+        if let Some(t) = &self.tracking {
+            let d = t.n_data;
+            out[n..n + d].copy_from_slice(&t.node_data[i * d..(i + 1) * d]);
+        }
+    }
+
+    /// Inputs per node: the variable inputs and the tracking constants.
+    fn node_inputs(&self) -> usize {
+        self.inputs.len() + self.tracking.as_ref().map_or(0, |t| t.n_data)
+    }
+
+    /// Scale of the forward translation in the distance of the cost (0 when the cost is not
+    /// divided by the distance).
+    fn cost_stx(&self) -> f64 {
+        match self.tracking {
+            Some(_) => 0.0,
+            None => self.problem.scaling.q[self.problem.gait.forward_translation],
         }
     }
 
@@ -632,7 +695,7 @@ impl<F: NodeFunction> Transcription<F> {
         points: usize,
         xin: &'a mut [f64],
     ) -> &'a [f64] {
-        let n = self.inputs.len();
+        let n = self.node_inputs();
         for p in 0..points {
             self.gather(x, first + p, &mut xin[p * n..(p + 1) * n]);
         }
@@ -643,7 +706,7 @@ impl<F: NodeFunction> Transcription<F> {
     fn with_nodes<R>(&self, x: &[f64], with_jac: bool, f: impl FnOnce(&Cache) -> R) -> R {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache.move_to(x);
-        let nin = self.inputs.len();
+        let nin = self.node_inputs();
         let nout = self.n_out;
         if with_jac && !cache.valid_jac {
             let nj = self.node_jac_pattern.len();
@@ -694,8 +757,11 @@ impl<F: NodeFunction> Transcription<F> {
         (s, d, x[self.problem.layout.tf()], cc)
     }
 
-    /// The distance walked d [m] and the cost factor c = 1/(N d) at x.
+    /// The distance walked d [m] and the cost factor c = 1/(N d) at x (d = 1 when tracking).
     fn distance_factor(&self, x: &[f64]) -> (f64, f64) {
+        if self.tracking.is_some() {
+            return (1.0, 1.0 / self.problem.layout.n as f64);
+        }
         let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
         let d = stx * (x[self.txn] - x[self.tx0]);
         (d, 1.0 / (self.problem.layout.n as f64 * d))
@@ -739,6 +805,10 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         let (lo, hi) = self.problem.variable_bounds();
         x_l.copy_from_slice(&lo);
         x_u.copy_from_slice(&hi);
+        if let Some(t) = &self.tracking {
+            let tf = self.problem.layout.tf();
+            (x_l[tf], x_u[tf]) = (t.duration, t.duration);
+        }
         g_l.copy_from_slice(&self.constraint_lo);
         g_u.copy_from_slice(&self.constraint_hi);
     }
@@ -757,7 +827,7 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         let b = radau::quadrature_weights();
         self.with_nodes(x, true, |c| {
             let (s, d, tf, cc) = self.cost_parts(x, &c.values);
-            let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
+            let stx = self.cost_stx();
             for i in 0..self.n_nodes {
                 let w = cc * tf * b[i % 3];
                 for &e in &self.cost_entries {
@@ -789,8 +859,10 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
                 .map(|t| t.coef * x[t.var] * if t.times_h { h } else { 1.0 })
                 .sum();
         }
-        let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
-        cv[self.speed_row] = stx * (x[self.txn] - x[self.tx0]) / x[self.problem.layout.tf()];
+        if self.tracking.is_none() {
+            let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
+            cv[self.speed_row] = stx * (x[self.txn] - x[self.tx0]) / x[self.problem.layout.tf()];
+        }
         check(NlpFunction::Constraints, cv)
     }
     fn jacobian_structure(&self) -> Sparsity {
@@ -800,6 +872,9 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         let n = self.problem.layout.n as f64;
         let tf = x[self.problem.layout.tf()];
         self.with_nodes(x, true, |c| self.jac_fill.fill(&c.jac, x, tf, n, vals));
+        if self.tracking.is_some() {
+            return check(NlpFunction::Jacobian, vals);
+        }
         let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
         vals[self.speed_pos[0]] = stx / tf;
         vals[self.speed_pos[1]] = -stx / tf;
@@ -820,12 +895,12 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         let l = &self.problem.layout;
         let ns = l.n_states();
         let per_point = ns + self.n_path;
-        let nin = self.inputs.len();
+        let nin = self.node_inputs();
         let nh = self.node_hess_pattern.len();
         let nj = self.node_jac_pattern.len();
         let n = l.n as f64;
         let b = radau::quadrature_weights();
-        let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
+        let stx = self.cost_stx();
         let tf = x[l.tf()];
         // The cost weight of a node needs only x.
         let (d, cc) = self.distance_factor(x);
@@ -878,7 +953,9 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         // Cost pieces need node values and cost gradients (now cached at x).
         let s = self.with_nodes(x, true, |c| self.cost_parts(x, &c.values).0);
         for (p, &pos) in self.node_hess_pos.iter().enumerate() {
-            vals[pos] += node_h[p];
+            if pos != NO_SLOT {
+                vals[pos] += node_h[p];
+            }
         }
         // Cost: cross terms of (t_f, x_N, x_0) with the node inputs, and among themselves.
         self.with_nodes(x, true, |c| {
@@ -909,7 +986,11 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
                 vals[p] += lam * t.coef / n;
             }
         }
+        if self.tracking.is_some() {
+            return check(NlpFunction::Hessian, vals);
+        }
         // Speed: λ (s (x_N − x_0) / t_f).
+        let stx = self.problem.scaling.q[self.problem.gait.forward_translation];
         let lam = lambda[self.speed_row];
         let dx = x[self.txn] - x[self.tx0];
         vals[self.hess_speed_pos[0]] += -lam * stx / (tf * tf);
