@@ -19,8 +19,7 @@ use crate::backends::timed::TimedNlp;
 use crate::nlp::{check_finite, Nlp, NlpFunction};
 use crate::observer::Observer;
 use crate::solver::{
-    ControlFlow, HessianMode, IterationRecord, MuStrategy, SolveError, SolveResult, SolveStatus,
-    Solver, SolverOptions,
+    HessianMode, MuStrategy, SolveError, SolveResult, SolveStatus, Solver, SolverOptions,
 };
 
 /// L-BFGS history length that ripopt hard-codes (IPOPT's default).
@@ -294,6 +293,7 @@ impl Solver for RipoptSolver {
 mod tests {
     use super::*;
     use crate::backends::tests::{assert_hs071, assert_rosenbrock, run, Hs071, Rosenbrock};
+    use crate::solver::{ControlFlow, IterationRecord};
 
     #[test]
     fn hs071_exact_hessian() {

@@ -24,8 +24,8 @@ use crate::backends::timed::TimedNlp;
 use crate::nlp::{check_finite, Nlp, NlpFunction};
 use crate::observer::Observer;
 use crate::solver::{
-    ControlFlow, HessianMode, IterationRecord, MuStrategy, SolveError, SolveResult, SolveStatus,
-    Solver, SolverOptions,
+    HessianMode, IterationRecord, MuStrategy, SolveError, SolveResult, SolveStatus, Solver,
+    SolverOptions,
 };
 
 /// Serialises IPOPT solves within the process (sequential MUMPS is not thread-safe).
@@ -569,6 +569,7 @@ impl Solver for IpoptSolver {
 mod tests {
     use super::*;
     use crate::backends::tests::{assert_hs071, assert_rosenbrock, run, Hs071, Rosenbrock};
+    use crate::solver::ControlFlow;
 
     #[test]
     fn hs071_exact_hessian() {
