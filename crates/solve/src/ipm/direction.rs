@@ -1,10 +1,10 @@
 //! Search directions: the primal-dual Newton step of the barrier problem from the condensed
 //! KKT system, and the choice of μ by the free-mode oracles that need those steps.
 //!
-//! The Newton system (Wächter & Biegler 2006, eq. 13) with the bound multipliers eliminated
+//! The Newton system (Wächter & Biegler 2006, section 2.2) with the bound multipliers eliminated
 //! is [[W + Σ + δ_w I, Jᵀ], [J, −δ_c I]] (dw, dλ) = −(∇φ_μ + Jᵀλ, r) with Σ = Z_L/(w − L) +
 //! Z_U/(U − w); slack rows are condensed into the constraint block (1/σ_s + δ_c). The
-//! bound-multiplier steps follow from dw (eq. 11). The right-hand side is affine in μ, so
+//! bound-multiplier steps follow from dw. The right-hand side is affine in μ, so
 //! the steps for μ = 0 and μ = average complementarity give the step of any μ as their
 //! affine combination: the oracles (Mehrotra probing, IPOPT's quality function) use this.
 // Index loops over several parallel arrays are clearer than zipped iterators here.
@@ -230,7 +230,7 @@ pub(super) fn combine(a: &[f64], b: &[f64], sigma: f64, out: &mut [f64]) {
 }
 
 /// Primal-dual steps of the bound multipliers for the primal step `dw` (Wächter & Biegler
-/// 2006, eq. 11); with `targets` (t_L, t_U) the complementarity targets are μ + t_L[j],
+/// 2006, section 2.2); with `targets` (t_L, t_U) the complementarity targets are μ + t_L[j],
 /// μ + t_U[j] (centrality correctors), as in [`newton_rhs`].
 pub(super) fn bound_multiplier_steps(
     st: &Iterate,

@@ -4,11 +4,11 @@
 //! not dominated by a filter entry and, against the point the step starts from (θ_k, φ_k),
 //! either
 //! - the switching condition ∇φᵀd < 0 and α (−∇φᵀd)^s_φ > δ θ_k^s_θ holds with θ_k ≤ θ_min
-//!   and the Armijo condition φ ≤ φ_k + η_φ α ∇φᵀd (eqs. 19–20), or
-//! - θ ≤ (1 − γ_θ) θ_k or φ ≤ φ_k − γ_φ θ_k (eq. 18).
+//!   and the Armijo condition φ ≤ φ_k + η_φ α ∇φᵀd, or
+//! - θ ≤ (1 − γ_θ) θ_k or φ ≤ φ_k − γ_φ θ_k.
 //!
 //! A step accepted without the Armijo test of the switching condition augments the filter by
-//! ((1 − γ_θ) θ_k, φ_k − γ_φ θ_k) (eq. 22). The smallest step size tried is α_min (eq. 23).
+//! ((1 − γ_θ) θ_k, φ_k − γ_φ θ_k). The smallest step size tried is α_min.
 
 /// Armijo constant η_φ of the filter line search.
 const ETA_PHI: f64 = 1e-8;
@@ -64,7 +64,7 @@ impl LsReference {
         }
     }
 
-    /// The smallest step size α_min of the backtracking from this reference (eq. 23).
+    /// The smallest step size α_min of the backtracking from this reference.
     pub fn alpha_min(&self) -> f64 {
         let (theta0, gphi_d) = (self.theta, self.gphi_d);
         if gphi_d < 0.0 {
@@ -103,7 +103,7 @@ impl Filter {
             .any(|&(ft, fp)| theta >= ft && phi >= fp)
     }
 
-    /// Adds the entry of a step from `reference` accepted without the Armijo test (eq. 22).
+    /// Adds the entry of a step from `reference` accepted without the Armijo test.
     pub fn augment(&mut self, reference: &LsReference) {
         self.entries.push((
             (1.0 - GAMMA_THETA) * reference.theta,

@@ -4,7 +4,7 @@
 //! variables w = (x, s): slacks s for the inequality rows, bounds L ≤ w ≤ U, and equality
 //! residuals r(w) = c(x) − (g for equality rows, s for inequality rows) = 0. The barrier
 //! problem at μ is min φ_μ(w) = f(x) − μ Σ ln(w − L) − μ Σ ln(U − w) subject to r(w) = 0
-//! (Wächter & Biegler 2006, eq. 3); z_L, z_U are the bound multipliers and λ the
+//! (Wächter & Biegler 2006, section 2.1); z_L, z_U are the bound multipliers and λ the
 //! constraint multipliers (∇f + Jᵀλ − z_L + z_U = 0 at a solution).
 // Index loops over several parallel arrays are clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]

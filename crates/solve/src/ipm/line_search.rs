@@ -4,7 +4,7 @@
 //! Backtracking from α_max (fraction to the boundary, τ) halves α until the filter
 //! ([`super::filter`]) accepts w + α d or α < α_min. If the first trial is rejected with
 //! θ not reduced, up to [`MAX_SOC`] second-order corrections solve again with the residual
-//! α r + r(w + α d) accumulated (eq. 26–27) and are accepted on the filter at α_max.
+//! α r + r(w + α d) accumulated (section 2.4) and are accepted on the filter at α_max.
 //! After `watchdog_trigger` shortened steps in a row the watchdog takes full steps, each
 //! accepted if the filter accepts it against the references of the watchdog's starting
 //! point, else taken anyway up to [`WATCHDOG_TRIAL_MAX`] times; it then returns to the
