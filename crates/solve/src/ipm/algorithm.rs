@@ -29,7 +29,7 @@ use crate::ipm::line_search::{LineSearch, Trial};
 use crate::ipm::linsys::{Counted, KktSolver, SolveCounts};
 use crate::ipm::ordering::ordering_blocks;
 use crate::ipm::scaled::ScaledNlp;
-use crate::ipm::setup::{initial_iterate, initial_point, least_squares_multipliers};
+use crate::ipm::setup::{initial_iterate, initial_point, least_squares_multipliers, StartingPoint};
 use crate::nlp::{validate_bounds, validate_structures, Bounds, Nlp};
 use crate::observer::{Diagnostic, Emitter, Observer};
 use crate::solver::{
@@ -149,7 +149,12 @@ impl<'a> Ipm<'a> {
         let structures = validate_structures(nlp)?;
         let exact = o.hessian.starts_exact();
         let mut prob = ScaledNlp::new(nlp, structures.jacobian, structures.hessian);
-        let (x0, xl, xu, fixed_x) = initial_point(&prob, &bounds, o)?;
+        let StartingPoint {
+            x0,
+            xl,
+            xu,
+            fixed_x,
+        } = initial_point(&prob, &bounds, o)?;
         if o.nlp_scaling {
             prob.compute_gradient_scaling(&x0, o.nlp_scaling_max_gradient)
                 .map_err(SolveError::InitialEvaluation)?;

@@ -280,8 +280,6 @@ pub(super) fn evaluate_trial(
     Ok(f)
 }
 
-/// Fiacco–McCormick decrease of μ: min(κ_μ μ, μ^θ_μ), not below `floor`.
-
 /// ∇φ_μ(w)ᵀ dw for the barrier function φ_μ = f − μ Σ ln(slacks to bounds).
 pub(super) fn barrier_directional_derivative(st: &Iterate, mu: f64, dw: &[f64]) -> f64 {
     let mut g = dot(&st.grad, &dw[..st.n]);

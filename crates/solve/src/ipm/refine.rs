@@ -6,6 +6,9 @@
 //! of K_reg x = b by x ← x + K_reg⁻¹ (b − K_true x) until the residual is below
 //! [`REFINE_TOL`] relative to b or stops shrinking (IPOPT's iterative refinement).
 
+// Index loops over several parallel arrays are clearer than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
+
 use crate::ipm::iterate::inf_norm;
 use crate::ipm::kkt::KktPattern;
 use crate::ipm::linsys::{KktSolver, LinearSolverError};
@@ -66,10 +69,6 @@ pub(super) fn kkt_residual(
         }
     }
 }
-
-/// Iterative refinement of the `ncols` solutions `x` of K_true x = b (column-major) from
-/// the factorisation of K_reg (see [`kkt_residual`]): each column until its residual is
-/// below `REFINE_TOL` relative to its right-hand side or stops shrinking, the columns still
 
 /// The systems K_true x = b (column-major, `ncols` columns of `pattern.dim` rows) and the
 /// factorisation of K_reg they are refined with (see [`kkt_residual`]).

@@ -22,8 +22,8 @@ impl Ipm<'_> {
         }
         let b = &self.bounds;
         let mut viol = 0.0f64;
-        for i in 0..st.m {
-            let ci = st.c[i] / scale[i];
+        for (i, (&c, s)) in st.c.iter().zip(scale).enumerate() {
+            let ci = c / s;
             viol = viol.max(b.g_l[i] - ci).max(ci - b.g_u[i]);
         }
         viol.max(0.0)

@@ -51,14 +51,21 @@ fn push(kappa: f64, lo: f64, hi: f64, v: f64) -> f64 {
     v
 }
 
-/// The initial point x₀ of the problem, pushed inside its relaxed bounds; returns it with
-/// the relaxed bounds and which variables are fixed (x_l = x_u: kept at their value, without
-/// bounds or multipliers).
+/// The starting primal point: x₀ pushed inside the relaxed bounds x_l, x_u, and which
+/// variables are fixed (x_l = x_u: kept at their value, without bounds or multipliers).
+pub(super) struct StartingPoint {
+    pub x0: Vec<f64>,
+    pub xl: Vec<f64>,
+    pub xu: Vec<f64>,
+    pub fixed_x: Vec<bool>,
+}
+
+/// The initial point x₀ of the problem, pushed inside its relaxed bounds.
 pub(super) fn initial_point(
     prob: &ScaledNlp,
     bounds: &Bounds,
     o: &SolverOptions,
-) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<bool>), SolveError> {
+) -> Result<StartingPoint, SolveError> {
     let n = prob.nlp.n();
     let mut x0 = vec![0.0; n];
     prob.nlp.initial_point(&mut x0);
@@ -86,7 +93,12 @@ pub(super) fn initial_point(
             x0[j] = bounds.x_l[j];
         }
     }
-    Ok((x0, xl, xu, fixed_x))
+    Ok(StartingPoint {
+        x0,
+        xl,
+        xu,
+        fixed_x,
+    })
 }
 
 /// The first iterate: slacks for the inequality rows (bounds scaled and relaxed, values
