@@ -149,19 +149,6 @@ impl Iterate {
         copy
     }
 
-    /// Copies the iterate `other` into this one (same problem) without the Hessian values
-    /// and without allocating.
-    pub(super) fn copy_without_hessian(&mut self, other: &Iterate) {
-        self.w.copy_from_slice(&other.w);
-        self.lam.copy_from_slice(&other.lam);
-        self.zl.copy_from_slice(&other.zl);
-        self.zu.copy_from_slice(&other.zu);
-        self.f = other.f;
-        self.grad.copy_from_slice(&other.grad);
-        self.c.copy_from_slice(&other.c);
-        self.jv.copy_from_slice(&other.jv);
-    }
-
     /// ∇L over w with the bound multipliers, fixed variables zeroed.
     pub(super) fn grad_lag(
         &self,

@@ -69,9 +69,7 @@ pub(super) struct LineSearch {
     pub rt: Vec<f64>,
     /// Accumulated residual of the second-order correction.
     pub soc_rhs_r: Vec<f64>,
-    /// Trial iterate of soft restoration (allocated on its first use) and its Lagrangian
-    /// gradient.
-    pub soft_trial: Option<Iterate>,
+    /// Lagrangian gradient at the trial iterate of soft restoration.
     pub gl_trial: Vec<f64>,
 }
 
@@ -93,7 +91,6 @@ impl LineSearch {
             ct: vec![0.0; m],
             rt: vec![0.0; m],
             soc_rhs_r: vec![0.0; m],
-            soft_trial: None,
             gl_trial: vec![0.0; big_n],
         }
     }

@@ -65,10 +65,9 @@ impl Ipm<'_> {
         } = self;
         // opt.r and opt.gl still hold the residual and Lagrangian gradient of the current point
         let err_now = st.pd_barrier_error(&opt.gl, &opt.r, mu);
-        let t = ls
-            .soft_trial
-            .get_or_insert_with(|| st.clone_without_hessian());
-        t.copy_without_hessian(st);
+        // a rare event: the trial iterate (with its Jacobian values) is allocated here and
+        // freed after, so that it does not add to the solve's peak memory
+        let t = &mut st.clone_without_hessian();
         let step = &newton.main;
         for j in 0..st.big_n {
             t.w[j] = st.w[j] + a * step.dw[j];
