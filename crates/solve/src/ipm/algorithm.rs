@@ -296,6 +296,7 @@ impl<'a> Ipm<'a> {
         }
         self.exact = true;
         self.lbfgs = None;
+        self.newton.drop_correction();
         self.kkt.switch_to_exact(&self.prob)?;
         let st = &mut self.st;
         if let Err(e) = self.prob.hessian(&st.w[..st.n], 1.0, &st.lam, &mut st.hv) {

@@ -104,6 +104,13 @@ impl Newton {
 }
 
 impl Newton {
+    /// Frees the limited-memory correction's buffers (dim × 2k values) once the exact
+    /// Hessian has taken over, so that they do not add to the exact tail's memory.
+    pub fn drop_correction(&mut self) {
+        self.correction = LowRankCorrection::default();
+        self.correction_active = false;
+    }
+
     /// The direction for μ = σ·avg from the block-solved steps for μ = 0 and μ = avg
     /// (their affine combination, see [`combine`]) into `main` (dw, dλ).
     fn combine_into_main(&mut self, sigma: f64) {
