@@ -116,17 +116,19 @@ impl<'l> KktSystem<'l> {
         } else {
             KktPattern::new(n, m, &prob.jac, &prob.hess)
         };
+        // the buffers are allocated after the symbolic analysis, whose own peak memory is
+        // then not added to theirs
         let mut kkt = KktSystem {
             linear,
             structure,
-            vals: vec![0.0; pattern.nnz()],
-            diag_x: vec![0.0; n],
-            d_c: vec![0.0; m],
+            vals: Vec::new(),
+            diag_x: Vec::new(),
+            d_c: Vec::new(),
             sigma: Vec::new(),
-            d_c_reg: vec![DELTA_C; m],
-            zero_h: vec![0.0; prob.hess.nnz()],
-            rhs: vec![0.0; pattern.dim],
-            b_save: vec![0.0; pattern.dim],
+            d_c_reg: Vec::new(),
+            zero_h: Vec::new(),
+            rhs: Vec::new(),
+            b_save: Vec::new(),
             refine: RefineScratch::default(),
             pattern,
             blocks,
@@ -140,6 +142,14 @@ impl<'l> KktSystem<'l> {
         kkt.analyse(&prob.hess)?;
         kkt.time_symbolic = t.elapsed();
         kkt.time += kkt.time_symbolic;
+        let dim = kkt.pattern.dim;
+        kkt.vals = vec![0.0; kkt.pattern.nnz()];
+        kkt.diag_x = vec![0.0; n];
+        kkt.d_c = vec![0.0; m];
+        kkt.d_c_reg = vec![DELTA_C; m];
+        kkt.zero_h = vec![0.0; prob.hess.nnz()];
+        kkt.rhs = vec![0.0; dim];
+        kkt.b_save = vec![0.0; dim];
         Ok(kkt)
     }
 
