@@ -9,7 +9,7 @@ use stride_model::result_dir::{self, Existing, OutputError, ResultKind};
 use stride_ocp::guess::GuessKind;
 use stride_ocp::predict;
 use stride_ocp::settings::{ProblemSettings, RunSettings};
-use stride_solve::solver::{HessianMode, MuStrategy, Solver, SolverOptions};
+use stride_solve::solver::{HessianMode, LinearSolver, MuStrategy, Solver, SolverOptions};
 
 /// Arguments of `stride predict` (flags override the study file).
 #[derive(Args)]
@@ -135,16 +135,6 @@ pub(crate) fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
     }
 }
 
-/// Hessian of a prediction: the solver's mode, and whether the exact Hessian takes over
-/// once μ has reached its floor.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct HessianChoice {
-    /// Mode the solve starts in.
-    pub mode: HessianMode,
-    /// Exact Hessian for the tail of a limited-memory solve.
-    pub exact_tail: bool,
-}
-
 /// The Hessian named on the command line or in a study file for solver `backend`: `hybrid`
 /// (L-BFGS with 6 pairs until μ reaches its floor, then exact; the default with `ipm`, the
 /// only backend that has it), `limited-memory` (L-BFGS throughout, the paper's choice and the
@@ -152,21 +142,31 @@ pub(crate) struct HessianChoice {
 /// iterations (data-informed, quasi-random) to lower optima than L-BFGS in 664 and 762; with
 /// the exact Hessian from the start the pure-Rust solver stalls from 20 intervals on
 /// (decision 0002).
-pub(crate) fn parse_hessian(name: Option<&str>, backend: &str) -> anyhow::Result<HessianChoice> {
+pub(crate) fn parse_hessian(name: Option<&str>, backend: &str) -> anyhow::Result<HessianMode> {
     let lbfgs = HessianMode::LimitedMemory { history: 6 };
+    let hybrid = HessianMode::Hybrid { history: 6 };
     let hybrid_here = backend == "ipm";
-    let (mode, exact_tail) = match name.map(str::trim) {
-        None if hybrid_here => (lbfgs, true),
-        None => (lbfgs, false),
-        Some("hybrid") if hybrid_here => (lbfgs, true),
+    Ok(match name.map(str::trim) {
+        None if hybrid_here => hybrid,
+        None => lbfgs,
+        Some("hybrid") if hybrid_here => hybrid,
         Some("hybrid") => bail!(
             "hessian `hybrid` needs the ipm solver (solver `{backend}` has exact or limited-memory)"
         ),
-        Some("limited-memory") => (lbfgs, false),
-        Some("exact") => (HessianMode::Exact, false),
+        Some("limited-memory") => lbfgs,
+        Some("exact") => HessianMode::Exact,
         Some(other) => bail!("unknown hessian `{other}` (exact, limited-memory, hybrid)"),
-    };
-    Ok(HessianChoice { mode, exact_tail })
+    })
+}
+
+/// The KKT linear solver of the ipm solver named by the environment variable `STRIDE_KKT`
+/// (`ldlt`, the default, or `lblt`; decision 0002).
+pub(crate) fn linear_solver_from_env() -> anyhow::Result<LinearSolver> {
+    match std::env::var("STRIDE_KKT").ok().as_deref() {
+        None | Some("ldlt") => Ok(LinearSolver::Ldlt),
+        Some("lblt") => Ok(LinearSolver::Lblt),
+        Some(other) => bail!("STRIDE_KKT: `{other}` is not a KKT solver (use `ldlt` or `lblt`)"),
+    }
 }
 
 /// Rejects centrality correctors for a backend other than `ipm` (the only one that has them).
@@ -210,7 +210,7 @@ pub(crate) const HYBRID_CORRECTORS: usize = 2;
 pub(crate) fn prediction_options(
     tol: Option<f64>,
     max_iter: Option<usize>,
-    hessian: HessianChoice,
+    hessian: HessianMode,
     time_limit: Option<f64>,
     correctors: Option<usize>,
 ) -> anyhow::Result<SolverOptions> {
@@ -228,13 +228,15 @@ pub(crate) fn prediction_options(
     Ok(SolverOptions {
         tol: tol.unwrap_or(1e-4),
         max_iter: max_iter.unwrap_or(3000),
-        hessian: hessian.mode,
-        exact_hessian_tail: hessian.exact_tail,
-        centrality_correctors: correctors.unwrap_or(if hessian.exact_tail {
-            HYBRID_CORRECTORS
-        } else {
-            0
-        }),
+        hessian,
+        linear_solver: linear_solver_from_env()?,
+        centrality_correctors: correctors.unwrap_or(
+            if matches!(hessian, HessianMode::Hybrid { .. }) {
+                HYBRID_CORRECTORS
+            } else {
+                0
+            },
+        ),
         mu_strategy: MuStrategy::Adaptive,
         constr_viol_tol: PREDICTION_CONSTR_VIOL_TOL,
         time_limit,
@@ -424,27 +426,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn hessian_names_map_to_modes_and_the_exact_tail() {
+    fn hessian_names_map_to_modes() {
         let lbfgs = HessianMode::LimitedMemory { history: 6 };
-        let c = |mode, exact_tail| HessianChoice { mode, exact_tail };
-        assert_eq!(parse_hessian(None, "ipm").unwrap(), c(lbfgs, true));
-        assert_eq!(
-            parse_hessian(Some("hybrid"), "ipm").unwrap(),
-            c(lbfgs, true)
-        );
-        assert_eq!(
-            parse_hessian(Some("limited-memory"), "ipm").unwrap(),
-            c(lbfgs, false)
-        );
+        let hybrid = HessianMode::Hybrid { history: 6 };
+        assert_eq!(parse_hessian(None, "ipm").unwrap(), hybrid);
+        assert_eq!(parse_hessian(Some("hybrid"), "ipm").unwrap(), hybrid);
+        assert_eq!(parse_hessian(Some("limited-memory"), "ipm").unwrap(), lbfgs);
         assert_eq!(
             parse_hessian(Some(" exact"), "ipm").unwrap(),
-            c(HessianMode::Exact, false)
+            HessianMode::Exact
         );
         let e = parse_hessian(Some("bfgs"), "ipm").unwrap_err().to_string();
         assert!(e.contains("unknown hessian `bfgs`"), "{e}");
         // IPOPT has no hybrid mode: its default is the paper's limited-memory Hessian, and
         // asking for hybrid is an error, not silently something else.
-        assert_eq!(parse_hessian(None, "ipopt").unwrap(), c(lbfgs, false));
+        assert_eq!(parse_hessian(None, "ipopt").unwrap(), lbfgs);
         let e = parse_hessian(Some("hybrid"), "ipopt")
             .unwrap_err()
             .to_string();

@@ -25,8 +25,7 @@ fn main() {
     let options = SolverOptions {
         tol: 1e-4,
         mu_strategy: MuStrategy::Adaptive,
-        hessian: HessianMode::LimitedMemory { history: 6 },
-        exact_hessian_tail: true,
+        hessian: HessianMode::Hybrid { history: 6 },
         centrality_correctors: 2,
         constr_viol_tol: 1e-6,
         threads: 1,

@@ -12,7 +12,26 @@
 
 use std::ops::ControlFlow;
 use stride_ocp::{guess::GuessKind, settings::ProblemSettings};
-use stride_solve::solver::{HessianMode, Solver, SolverOptions};
+use stride_solve::observer::{Diagnostic, Observer};
+use stride_solve::solver::{HessianMode, IterationRecord, LinearSolver, Solver, SolverOptions};
+
+/// Prints the iteration table (print level 2 and above) and the solver's diagnostics.
+struct Printer {
+    table: bool,
+}
+
+impl Observer for Printer {
+    fn iteration(&mut self, record: &IterationRecord) -> ControlFlow<()> {
+        if self.table {
+            eprintln!("{}", record.table_line());
+        }
+        ControlFlow::Continue(())
+    }
+
+    fn diagnostic(&mut self, event: &Diagnostic) {
+        eprintln!("{event}");
+    }
+}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -37,11 +56,14 @@ fn main() {
             .and_then(|v| v.parse().ok())
             .unwrap_or(3000),
         hessian: if lbfgs {
-            HessianMode::LimitedMemory {
-                history: std::env::var("STRIDE_HISTORY")
-                    .ok()
-                    .and_then(|v| v.parse().ok())
-                    .unwrap_or(6),
+            let history = std::env::var("STRIDE_HISTORY")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(6);
+            if std::env::var("STRIDE_EXACT_TAIL").as_deref() == Ok("1") {
+                HessianMode::Hybrid { history }
+            } else {
+                HessianMode::LimitedMemory { history }
             }
         } else {
             HessianMode::Exact
@@ -73,7 +95,11 @@ fn main() {
             .ok()
             .and_then(|v| v.parse().ok())
             .unwrap_or(10),
-        exact_hessian_tail: std::env::var("STRIDE_EXACT_TAIL").as_deref() == Ok("1"),
+        linear_solver: if std::env::var("STRIDE_KKT").as_deref() == Ok("lblt") {
+            LinearSolver::Lblt
+        } else {
+            LinearSolver::Ldlt
+        },
         centrality_correctors: std::env::var("STRIDE_CORRECTORS")
             .ok()
             .and_then(|v| v.parse().ok())
@@ -90,7 +116,13 @@ fn main() {
         _ => Box::new(stride_solve::ipm::InteriorPoint::new()),
     };
     let r = solver
-        .solve(&tr, &options, &mut |_rec| ControlFlow::Continue(()))
+        .solve(
+            &tr,
+            &options,
+            &mut Printer {
+                table: options.print_level >= 2,
+            },
+        )
         .unwrap();
     println!(
         "status {:?} iters {} obj {} viol {:e} time {:?} (eval {:?}, linear {:?})",

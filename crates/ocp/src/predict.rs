@@ -128,7 +128,7 @@ pub struct Summary {
     pub guesses: Vec<GuessReport>,
     /// Solver backend.
     pub solver: String,
-    /// Solver options of every guess's solve (Hessian mode, exact tail, tolerances).
+    /// Solver options of every guess's solve (Hessian mode, tolerances).
     pub solver_options: SolverOptions,
     /// Outcome measures of the kept solution.
     pub outcomes: Option<Outcomes>,
@@ -228,7 +228,8 @@ pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> Solve
     if !solver.supports_warm_start() {
         return options.clone();
     }
-    let hessian = if options.exact_hessian_tail {
+    let hybrid = matches!(options.hessian, HessianMode::Hybrid { .. });
+    let hessian = if hybrid {
         HessianMode::Exact
     } else {
         options.hessian
@@ -239,11 +240,10 @@ pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> Solve
         mu_init: WARM_START_MU,
         bound_push: WARM_START_BOUND_PUSH,
         hessian,
-        exact_hessian_tail: false,
         // the hybrid's correctors pay in its limited-memory phase (one more column of a
         // 14-column block solve); a Newton step's corrector costs a refined solve of its own
         // (~8 % of an iteration) and saves fewer iterations than that (decision 0005)
-        centrality_correctors: if options.exact_hessian_tail {
+        centrality_correctors: if hybrid {
             0
         } else {
             options.centrality_correctors
@@ -339,7 +339,7 @@ pub fn solve_from(
 ) -> Result<SolveResult, PredictError> {
     let tr = Transcription::new(problem.clone(), tape, x0);
     with_threads(options.threads, || {
-        solver.solve(&tr, options, &mut |rec| {
+        solver.solve(&tr, options, &mut |rec: &IterationRecord| {
             progress(rec);
             ControlFlow::Continue(())
         })
@@ -407,7 +407,7 @@ pub fn solve_presolved(
     // the coarse optimum is only a starting point: a hybrid solve stops where μ reaches
     // its floor instead of converging in exact-Hessian steps (decision 0005)
     let coarse_options = SolverOptions {
-        stop_at_mu_floor: options.exact_hessian_tail,
+        stop_at_mu_floor: matches!(options.hessian, HessianMode::Hybrid { .. }),
         ..options.clone()
     };
     let coarse_stage = MeshStage::Coarse(coarse.problem.layout.n);
@@ -788,8 +788,7 @@ mod tests {
         let ipm = InteriorPoint::new();
         let lbfgs = HessianMode::LimitedMemory { history: 6 };
         let hybrid = SolverOptions {
-            hessian: lbfgs,
-            exact_hessian_tail: true,
+            hessian: HessianMode::Hybrid { history: 6 },
             centrality_correctors: 2,
             compl_inf_tol: 1e-4,
             tol: 1e-4,
@@ -803,7 +802,6 @@ mod tests {
             (WARM_START_MU, WARM_START_BOUND_PUSH)
         );
         assert_eq!(w.hessian, HessianMode::Exact);
-        assert!(!w.exact_hessian_tail);
         assert!(
             (w.compl_inf_tol - 1e-5).abs() < 1e-18,
             "{}",
@@ -812,7 +810,7 @@ mod tests {
         assert_eq!(w.tol, 1e-4);
         // an explicit limited-memory Hessian is kept, with its tolerance
         let plain = SolverOptions {
-            exact_hessian_tail: false,
+            hessian: lbfgs,
             ..hybrid.clone()
         };
         let w = warm_start_options(&ipm, &plain);

@@ -105,7 +105,7 @@ fn results_are_valid_storage_files() {
     // The solver options are recorded with the results.
     let json = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(
-        json.contains("\"solver_options\"") && json.contains("\"exact_hessian_tail\""),
+        json.contains("\"solver_options\"") && json.contains("\"linear_solver\""),
         "summary.json without the solver options"
     );
     // No temporary folder left behind.

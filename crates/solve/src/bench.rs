@@ -16,6 +16,7 @@ use crate::ipm::linsys::{FaerLdlt, KktSolver, LinearSolverError};
 use crate::ipm::ordering::{kkt_ordering, ordering_blocks};
 use crate::nlp::{EvalError, Nlp};
 use crate::problems::PendulumChain;
+use crate::solver::IterationRecord;
 use crate::solver::{
     HessianMode, KktOrdering, MuStrategy, SolveError, SolveStatus, Solver, SolverOptions,
 };
@@ -248,7 +249,7 @@ pub fn solve(
         time_limit,
         ..SolverOptions::default()
     };
-    let r = solver.solve(&p, &o, &mut |_| ControlFlow::Continue(()))?;
+    let r = solver.solve(&p, &o, &mut |_: &IterationRecord| ControlFlow::Continue(()))?;
     let linear_solver = r.reported_linear_solver_time();
     Ok(SolveRow {
         intervals,

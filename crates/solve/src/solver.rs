@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::nlp::{EvalError, Nlp, NlpError};
+use crate::observer::Observer;
 
 /// What the observer callback tells the solver after each iteration.
 pub type ControlFlow = StdControlFlow<()>;
@@ -25,6 +26,40 @@ pub enum HessianMode {
         /// Number of stored correction pairs (IPOPT default 6).
         history: usize,
     },
+    /// Limited-memory BFGS with `history` pairs until μ has sat at its floor for a few
+    /// iterations, then the exact Hessian for the rest of the solve (pure-Rust interior
+    /// point only; decision 0002).
+    Hybrid {
+        /// Number of stored correction pairs of the limited-memory phase.
+        history: usize,
+    },
+}
+
+impl HessianMode {
+    /// The correction pairs of the limited-memory phase, None for the exact Hessian.
+    pub fn history(&self) -> Option<usize> {
+        match *self {
+            HessianMode::Exact => None,
+            HessianMode::LimitedMemory { history } | HessianMode::Hybrid { history } => {
+                Some(history)
+            }
+        }
+    }
+
+    /// Whether the solve starts with the exact Hessian.
+    pub fn starts_exact(&self) -> bool {
+        matches!(self, HessianMode::Exact)
+    }
+}
+
+/// Sparse symmetric factorisation of the KKT matrix of the pure-Rust interior point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum LinearSolver {
+    /// faer's supernodal LDLᵀ without pivoting (inertia from D; decision 0002).
+    #[default]
+    Ldlt,
+    /// faer's Bunch–Kaufman LBLᵀ with pivoting (slower; for experiments).
+    Lblt,
 }
 
 /// How the barrier parameter μ is updated.
@@ -86,7 +121,10 @@ pub struct SolverOptions {
     pub max_iter: usize,
     /// Exact or limited-memory Hessian.
     pub hessian: HessianMode,
-    /// Output verbosity: 0 silent, 1 summary, 2+ one line per iteration (stderr).
+    /// Detail of the diagnostics: the pure-Rust interior point sends the
+    /// [`crate::observer::Diagnostic`] events of level ≤ `print_level` to the observer (0
+    /// none, 1 summary, 2 restoration steps, 3 every stage's internals); the other backends
+    /// print their own output at their matching levels.
     pub print_level: u32,
     /// Wall-clock limit for the solve (None: unlimited).
     pub time_limit: Option<Duration>,
@@ -131,9 +169,9 @@ pub struct SolverOptions {
     /// collocation problems, 2.4× faster factorisations of the 50-interval gait KKT than
     /// minimum degree, decision 0002; the IPOPT backend ignores it).
     pub kkt_ordering: KktOrdering,
-    /// Pure-Rust interior point with the limited-memory Hessian: switch to the exact
-    /// Hessian once μ has reached its floor (default false; the IPOPT backend ignores it).
-    pub exact_hessian_tail: bool,
+    /// KKT linear solver of the pure-Rust interior point (default `Ldlt`; the other
+    /// backends ignore it).
+    pub linear_solver: LinearSolver,
     /// Pure-Rust interior point with the limited-memory Hessian: end the solve with
     /// [`SolveStatus::MuFloor`] once μ has reached its floor, instead of converging the
     /// quasi-Newton model or switching to the exact Hessian (default false): the coarse
@@ -166,7 +204,9 @@ impl SolverOptions {
     pub fn mu_globalisation_in_effect(&self) -> MuGlobalisation {
         self.mu_globalisation.unwrap_or(match self.hessian {
             HessianMode::Exact => MuGlobalisation::ScaledError,
-            HessianMode::LimitedMemory { .. } => MuGlobalisation::ObjConstrFilter,
+            HessianMode::LimitedMemory { .. } | HessianMode::Hybrid { .. } => {
+                MuGlobalisation::ObjConstrFilter
+            }
         })
     }
 
@@ -174,7 +214,7 @@ impl SolverOptions {
     pub fn mu_safeguard_factor(&self) -> f64 {
         self.mu_safeguard.unwrap_or(match self.hessian {
             HessianMode::Exact => 0.01,
-            HessianMode::LimitedMemory { .. } => 0.0,
+            HessianMode::LimitedMemory { .. } | HessianMode::Hybrid { .. } => 0.0,
         })
     }
 }
@@ -200,7 +240,7 @@ impl Default for SolverOptions {
             soft_restoration: true,
             watchdog_trigger: 10,
             kkt_ordering: KktOrdering::Auto,
-            exact_hessian_tail: false,
+            linear_solver: LinearSolver::Ldlt,
             stop_at_mu_floor: false,
             centrality_correctors: 0,
             nlp_scaling: true,
@@ -282,6 +322,27 @@ pub struct IterationRecord {
     pub elapsed: Duration,
 }
 
+impl IterationRecord {
+    /// The record as one line of an iteration table: iteration, objective, primal and dual
+    /// infeasibility, μ, step norm, primal and dual step sizes, regularisation, line-search
+    /// trials.
+    pub fn table_line(&self) -> String {
+        format!(
+            "{:5} {:+.8e} {:.2e} {:.2e} {:.1e} {:.2e} {:.2e} {:.2e} {:.1e} {}",
+            self.iter,
+            self.objective,
+            self.inf_pr,
+            self.inf_du,
+            self.mu,
+            self.step_norm,
+            self.alpha_pr,
+            self.alpha_du,
+            self.regularisation,
+            self.ls_trials
+        )
+    }
+}
+
 /// The outcome of a solve: the point, multipliers, statistics and timings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SolveResult {
@@ -326,7 +387,7 @@ pub struct SolveResult {
     /// Number of objective evaluations.
     pub objective_evaluations: usize,
     /// Iteration from which the exact Hessian replaced the limited-memory one
-    /// (`SolverOptions::exact_hessian_tail`); `None` when it never did.
+    /// ([`HessianMode::Hybrid`]); `None` when it never did.
     #[serde(default)]
     pub exact_hessian_from: Option<usize>,
     /// The iteration log.
@@ -381,11 +442,12 @@ pub trait Solver {
     fn supports_warm_start(&self) -> bool {
         true
     }
-    /// Solves `nlp`, calling `observer` after every iteration (return `Break` to stop).
+    /// Solves `nlp`, calling `observer` after every iteration (return `Break` to stop) and
+    /// with the diagnostic events the backend emits.
     fn solve(
         &self,
         nlp: &dyn Nlp,
         options: &SolverOptions,
-        observer: &mut dyn FnMut(&IterationRecord) -> ControlFlow,
+        observer: &mut dyn Observer,
     ) -> Result<SolveResult, SolveError>;
 }

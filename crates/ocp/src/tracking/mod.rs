@@ -274,7 +274,7 @@ impl TrackingProblem {
     ) -> Result<SolveResult, TrackError> {
         let tr = self.transcription()?;
         let run = || {
-            solver.solve(&tr, options, &mut |rec| {
+            solver.solve(&tr, options, &mut |rec: &IterationRecord| {
                 progress(rec);
                 ControlFlow::Continue(())
             })

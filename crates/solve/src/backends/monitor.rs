@@ -6,6 +6,7 @@ use std::ffi::{c_int, c_void};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::{Duration, Instant};
 
+use crate::observer::Observer;
 use crate::solver::{ControlFlow, IterationRecord};
 
 /// Why the monitor asked the backend to stop early.
@@ -21,7 +22,7 @@ pub enum StopReason {
 
 /// Iteration log, observer and time limit of one solve.
 pub struct Monitor<'o> {
-    observer: &'o mut dyn FnMut(&IterationRecord) -> ControlFlow,
+    observer: &'o mut dyn Observer,
     /// The iteration log collected so far (one record per callback).
     pub log: Vec<IterationRecord>,
     /// When the solve started.
@@ -33,10 +34,7 @@ pub struct Monitor<'o> {
 
 impl<'o> Monitor<'o> {
     /// A monitor starting its clock now.
-    pub fn new(
-        observer: &'o mut dyn FnMut(&IterationRecord) -> ControlFlow,
-        time_limit: Option<Duration>,
-    ) -> Self {
+    pub fn new(observer: &'o mut dyn Observer, time_limit: Option<Duration>) -> Self {
         Monitor {
             observer,
             log: Vec::new(),
@@ -50,7 +48,7 @@ impl<'o> Monitor<'o> {
     pub fn record(&mut self, mut rec: IterationRecord) -> bool {
         rec.iter = self.log.len();
         rec.elapsed = self.start.elapsed();
-        let flow = catch_unwind(AssertUnwindSafe(|| (self.observer)(&rec)));
+        let flow = catch_unwind(AssertUnwindSafe(|| self.observer.iteration(&rec)));
         self.log.push(rec);
         match flow {
             Err(_) => self.stop = Some(StopReason::ObserverPanic),

@@ -17,9 +17,9 @@ use crate::backends::residuals::residuals;
 use crate::backends::setup::{prepare, Prepared};
 use crate::backends::timed::TimedNlp;
 use crate::nlp::{check_finite, Nlp, NlpFunction};
+use crate::observer::Observer;
 use crate::solver::{
-    ControlFlow, HessianMode, IterationRecord, MuStrategy, SolveError, SolveResult, SolveStatus,
-    Solver, SolverOptions,
+    HessianMode, MuStrategy, SolveError, SolveResult, SolveStatus, Solver, SolverOptions,
 };
 
 /// L-BFGS history length that ripopt hard-codes (IPOPT's default).
@@ -216,7 +216,7 @@ impl Solver for RipoptSolver {
         &self,
         nlp: &dyn Nlp,
         options: &SolverOptions,
-        observer: &mut dyn FnMut(&IterationRecord) -> ControlFlow,
+        observer: &mut dyn Observer,
     ) -> Result<SolveResult, SolveError> {
         let mut ropts = ripopt_options(options)?;
         if let Some(extra) = self.extra {
@@ -293,6 +293,7 @@ impl Solver for RipoptSolver {
 mod tests {
     use super::*;
     use crate::backends::tests::{assert_hs071, assert_rosenbrock, run, Hs071, Rosenbrock};
+    use crate::solver::{ControlFlow, IterationRecord};
 
     #[test]
     fn hs071_exact_hessian() {
@@ -356,15 +357,14 @@ mod tests {
         };
         assert!(ripopt_options(&o).is_err());
         let o = SolverOptions {
-            hessian: HessianMode::LimitedMemory { history: 6 },
-            exact_hessian_tail: true,
+            hessian: HessianMode::Hybrid { history: 6 },
             ..SolverOptions::default()
         };
         let e = ripopt_options(&o).unwrap_err();
         assert!(matches!(
             e,
             SolveError::InvalidOption {
-                name: "exact_hessian_tail",
+                name: "hessian",
                 ..
             }
         ));

@@ -2,7 +2,7 @@
 //! functions at the initial point, turned into [`SolveError`]s that say what is wrong.
 
 use crate::nlp::{validate_bounds, validate_structures, Bounds, Nlp, Structures};
-use crate::solver::{SolveError, SolverOptions};
+use crate::solver::{HessianMode, SolveError, SolverOptions};
 
 /// A validated problem: bounds, derivative patterns and the initial point.
 #[derive(Debug, Clone)]
@@ -35,12 +35,12 @@ pub fn prepare(nlp: &dyn Nlp) -> Result<Prepared, SolveError> {
 }
 
 /// Rejects the stride-ipm features a backend (`name`) does not have:
-/// `SolverOptions::exact_hessian_tail` (switching from the limited-memory to the exact
-/// Hessian during a solve) and `SolverOptions::centrality_correctors`.
+/// [`HessianMode::Hybrid`] (switching from the limited-memory to the exact Hessian during a
+/// solve) and `SolverOptions::centrality_correctors`.
 pub fn reject_ipm_only(o: &SolverOptions, name: &str) -> Result<(), SolveError> {
-    if o.exact_hessian_tail {
+    if matches!(o.hessian, HessianMode::Hybrid { .. }) {
         return Err(SolveError::InvalidOption {
-            name: "exact_hessian_tail",
+            name: "hessian",
             reason: format!(
                 "{name} cannot switch from the limited-memory to the exact Hessian during a \
                  solve (a stride-ipm feature); choose the exact or the limited-memory Hessian"
@@ -61,24 +61,19 @@ pub fn reject_ipm_only(o: &SolverOptions, name: &str) -> Result<(), SolveError> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::HessianMode;
 
     #[test]
     fn ipm_only_options_are_named_in_the_error() {
         assert!(reject_ipm_only(&SolverOptions::default(), "IPOPT").is_ok());
         let tail = SolverOptions {
-            hessian: HessianMode::LimitedMemory { history: 6 },
-            exact_hessian_tail: true,
+            hessian: HessianMode::Hybrid { history: 6 },
             ..SolverOptions::default()
         };
         let correctors = SolverOptions {
             centrality_correctors: 2,
             ..SolverOptions::default()
         };
-        for (o, field) in [
-            (tail, "exact_hessian_tail"),
-            (correctors, "centrality_correctors"),
-        ] {
+        for (o, field) in [(tail, "hessian"), (correctors, "centrality_correctors")] {
             match reject_ipm_only(&o, "IPOPT") {
                 Err(SolveError::InvalidOption { name, reason }) => {
                     assert_eq!(name, field);

@@ -56,6 +56,65 @@ pub(super) struct Bottom {
     scratch: Vec<f64>,
 }
 
+/// Which supernodes are eliminated before faer: a supernode qualifies when it is narrow
+/// (at most `max_width` columns), not a root (so faer always has a matrix left), and all its
+/// children qualify (children precede their parent, the owner of the first pattern row).
+fn qualifying(
+    supernodes: &[(usize, usize, Vec<usize>)],
+    owner: &[usize],
+    max_width: usize,
+) -> Vec<bool> {
+    let mut elim: Vec<bool> = supernodes
+        .iter()
+        .map(|s| s.1 - s.0 <= max_width && !s.2.is_empty())
+        .collect();
+    for (k, s) in supernodes.iter().enumerate() {
+        if !elim[k] {
+            if let Some(&r) = s.2.first() {
+                elim[owner[r]] = false;
+            }
+        }
+    }
+    elim
+}
+
+/// Lower-triangular CSC pattern of the reduced matrix (`n_kept` columns, kept index `kidx`
+/// of each permuted column): the kept part of the input (`col_ptr`, `row_idx`) and every
+/// update of an eliminated front (`nodes`, their pattern `rows`) into a kept column.
+fn reduced_pattern(
+    (col_ptr, row_idx): (&[usize], &[usize]),
+    kidx: &[usize],
+    nodes: &[Node],
+    rows: &[usize],
+    n_kept: usize,
+) -> (Vec<usize>, Vec<usize>) {
+    let mut s_cols: Vec<Vec<usize>> = vec![Vec::new(); n_kept];
+    for c in 0..col_ptr.len() - 1 {
+        if kidx[c] != usize::MAX {
+            for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
+                s_cols[kidx[c]].push(kidx[r]);
+            }
+        }
+    }
+    for n in nodes {
+        let p = &rows[n.rows..n.rows + n.below];
+        for (j, &g) in p.iter().enumerate() {
+            if kidx[g] != usize::MAX {
+                s_cols[kidx[g]].extend(p[j..].iter().map(|&r| kidx[r]));
+            }
+        }
+    }
+    let mut s_col_ptr = vec![0usize];
+    let mut s_row_idx = Vec::new();
+    for col in &mut s_cols {
+        col.sort_unstable();
+        col.dedup();
+        s_row_idx.extend_from_slice(col);
+        s_col_ptr.push(s_row_idx.len());
+    }
+    (s_col_ptr, s_row_idx)
+}
+
 impl Bottom {
     /// The bottom of the factor of the permuted lower triangle (`col_ptr`, `row_idx`,
     /// dimension `dim`) whose supernodes are `(first column, end column, pattern rows)` in
@@ -73,20 +132,7 @@ impl Bottom {
         for (k, s) in supernodes.iter().enumerate() {
             owner[s.0..s.1].iter_mut().for_each(|o| *o = k);
         }
-        // a supernode qualifies when it is narrow, not a root (so faer always has a matrix
-        // left), and all its children qualify (children precede their parent, the owner of
-        // the first pattern row)
-        let mut elim: Vec<bool> = supernodes
-            .iter()
-            .map(|s| s.1 - s.0 <= max_width && !s.2.is_empty())
-            .collect();
-        for (k, s) in supernodes.iter().enumerate() {
-            if !elim[k] {
-                if let Some(&r) = s.2.first() {
-                    elim[owner[r]] = false;
-                }
-            }
-        }
+        let elim = qualifying(supernodes, &owner, max_width);
         if !elim.iter().any(|&e| e) {
             return None;
         }
@@ -130,32 +176,8 @@ impl Bottom {
                         .expect("a row of an eliminated column lies in its front")
             }
         };
-        // reduced pattern: the kept part of the input and every update into a kept column
-        let mut s_cols: Vec<Vec<usize>> = vec![Vec::new(); kept.len()];
-        for c in 0..dim {
-            if kidx[c] != usize::MAX {
-                for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
-                    s_cols[kidx[c]].push(kidx[r]);
-                }
-            }
-        }
-        for n in &nodes {
-            let p = &rows[n.rows..n.rows + n.below];
-            for (j, &g) in p.iter().enumerate() {
-                if kidx[g] != usize::MAX {
-                    s_cols[kidx[g]].extend(p[j..].iter().map(|&r| kidx[r]));
-                }
-            }
-        }
-        let mut s_col_ptr = vec![0usize];
-        let mut s_row_idx = Vec::new();
-        for col in &mut s_cols {
-            col.sort_unstable();
-            col.dedup();
-            s_row_idx.extend_from_slice(col);
-            s_col_ptr.push(s_row_idx.len());
-        }
-        drop(s_cols);
+        let (s_col_ptr, s_row_idx) =
+            reduced_pattern((col_ptr, row_idx), &kidx, &nodes, &rows, kept.len());
         let s_pos = |r: usize, c: usize| -> usize {
             let (kr, kc) = (kidx[r], kidx[c]);
             let col = &s_row_idx[s_col_ptr[kc]..s_col_ptr[kc + 1]];

@@ -51,12 +51,21 @@ impl Lbfgs {
         if !sy.is_finite() || sy <= 1e-8 * (ss * yy).sqrt() {
             return false;
         }
-        if self.s.len() == self.capacity {
-            self.s.pop_front();
-            self.y.pop_front();
-        }
-        self.s.push_back(s.to_vec());
-        self.y.push_back(y.to_vec());
+        // the oldest pair's storage is reused once the history is full
+        let (mut s_new, mut y_new) = if self.s.len() == self.capacity {
+            (
+                self.s.pop_front().unwrap_or_default(),
+                self.y.pop_front().unwrap_or_default(),
+            )
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        s_new.clear();
+        s_new.extend_from_slice(s);
+        y_new.clear();
+        y_new.extend_from_slice(y);
+        self.s.push_back(s_new);
+        self.y.push_back(y_new);
         // B₀ = σI with σ = sᵀy / sᵀs (IPOPT's `scalar1`, the mean curvature along s). The
         // alternative yᵀy / sᵀy (`scalar2`) is dominated by the stiffest directions: on the
         // gait problem it gave δ-free but tiny steps and inf_du 1e9 (decision 0002).
@@ -78,9 +87,17 @@ impl Lbfgs {
 
     /// The 2k × 2k middle matrix M (row-major).
     fn middle(&self) -> Vec<f64> {
+        let mut m = Vec::new();
+        self.middle_into(&mut m);
+        m
+    }
+
+    /// The 2k × 2k middle matrix M (row-major) written into `m`.
+    fn middle_into(&self, m: &mut Vec<f64>) {
         let k = self.len();
         let d = 2 * k;
-        let mut m = vec![0.0; d * d];
+        m.clear();
+        m.resize(d * d, 0.0);
         for i in 0..k {
             for j in 0..k {
                 m[i * d + j] = self.sigma * dot(&self.s[i], &self.s[j]);
@@ -94,7 +111,6 @@ impl Lbfgs {
             }
             m[(k + i) * d + k + i] = -dot(&self.s[i], &self.y[i]);
         }
-        m
     }
 
     /// Product B v.
@@ -127,7 +143,8 @@ impl Lbfgs {
 }
 
 /// Sherman–Morrison–Woodbury data for solving with K = K₀ − Ŵ M⁻¹ Ŵᵀ, where K₀ is the
-/// factorised sparse KKT matrix with B replaced by σI and Ŵ = [W; 0].
+/// factorised sparse KKT matrix with B replaced by σI and Ŵ = [W; 0]. Its buffers are reused
+/// from one preparation to the next.
 #[derive(Debug, Clone, Default)]
 pub struct LowRankCorrection {
     d: usize,
@@ -138,6 +155,9 @@ pub struct LowRankCorrection {
     w: Vec<f64>,
     /// Capacitance C = M − Ŵᵀ K₀⁻¹ Ŵ (row-major 2k × 2k).
     cap: Vec<f64>,
+    /// Scratch of `apply`: Ŵᵀ x and the factorised copy of C.
+    t: Vec<f64>,
+    c: Vec<f64>,
 }
 
 impl LowRankCorrection {
@@ -149,36 +169,55 @@ impl LowRankCorrection {
         dim: usize,
         solve0: impl FnOnce(&mut [f64], usize) -> bool,
     ) -> Option<Self> {
+        let mut c = LowRankCorrection::default();
+        c.prepare(lb, n, dim, solve0).then_some(c)
+    }
+
+    /// Prepares the correction in place (as [`LowRankCorrection::new`]); returns false,
+    /// leaving it unusable, when `solve0` fails.
+    pub fn prepare(
+        &mut self,
+        lb: &Lbfgs,
+        n: usize,
+        dim: usize,
+        solve0: impl FnOnce(&mut [f64], usize) -> bool,
+    ) -> bool {
         let d = 2 * lb.len();
-        let mut w = vec![0.0; n * d];
-        let mut z = vec![0.0; dim * d];
+        (self.d, self.n) = (d, n);
+        let (w, z) = (&mut self.w, &mut self.z);
+        w.clear();
+        w.resize(n * d, 0.0);
+        z.clear();
+        z.resize(dim * d, 0.0);
         for j in 0..d {
             lb.w_col(j, &mut w[j * n..(j + 1) * n]);
             z[j * dim..j * dim + n].copy_from_slice(&w[j * n..(j + 1) * n]);
         }
-        if !solve0(&mut z, d) {
-            return None;
+        if !solve0(z, d) {
+            return false;
         }
-        let mut cap = lb.middle();
+        let cap = &mut self.cap;
+        lb.middle_into(cap);
         for i in 0..d {
             for j in 0..d {
                 cap[i * d + j] -= dot(&w[i * n..(i + 1) * n], &z[j * dim..j * dim + n]);
             }
         }
-        Some(LowRankCorrection { d, n, z, w, cap })
+        true
     }
 
     /// Turns x₀ = K₀⁻¹ b into x = K⁻¹ b in place.
-    pub fn apply(&self, x: &mut [f64]) {
+    pub fn apply(&mut self, x: &mut [f64]) {
         if self.d == 0 {
             return;
         }
         let (d, n, dim) = (self.d, self.n, x.len());
-        let mut t: Vec<f64> = (0..d)
-            .map(|j| dot(&self.w[j * n..(j + 1) * n], &x[..n]))
-            .collect();
-        let mut c = self.cap.clone();
-        if !lu_solve(&mut c, d, &mut t) {
+        let (t, c) = (&mut self.t, &mut self.c);
+        t.clear();
+        t.extend((0..d).map(|j| dot(&self.w[j * n..(j + 1) * n], &x[..n])));
+        c.clear();
+        c.extend_from_slice(&self.cap);
+        if !lu_solve(c, d, t) {
             return;
         }
         for (j, &tj) in t.iter().enumerate() {

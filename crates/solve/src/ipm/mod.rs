@@ -1,23 +1,43 @@
-//! stride's own pure-Rust primal-dual interior-point method.
+//! stride's own pure-Rust primal-dual interior-point method (Wächter & Biegler 2006).
 //!
-//! - [`algorithm`]: the barrier iteration (μ update, inertia correction, line search).
+//! - [`algorithm`]: the method as a type with one method per stage, and its iteration.
+//! - stages: `setup` (starting point), `convergence` (optimality error, termination),
+//!   `barrier` (μ update), `inertia` (KKT factorisation with inertia correction),
+//!   `direction` (Newton steps, μ oracles), `correctors` (centrality correctors),
+//!   `filter` and `line_search` (filter line search, second-order correction, watchdog),
+//!   `restoration` (soft and feasibility restoration), `accept` (the step and the L-BFGS
+//!   update), `refine` (iterative refinement), `iterate` (the iterate and its measures).
 //! - [`kkt`]: the condensed KKT matrix pattern and its assembly.
 //! - [`linsys`]: the swappable sparse symmetric linear solver (faer LDLᵀ).
 //! - [`ordering`]: nested dissection of the KKT matrix along a chain of mesh intervals.
 //! - [`lbfgs`]: the compact limited-memory BFGS Hessian and its low-rank KKT correction.
 //! - [`scaled`]: gradient-based problem scaling and evaluation accounting.
 
+mod accept;
 pub mod algorithm;
+mod barrier;
 mod bottom;
+mod convergence;
+mod correctors;
+mod direction;
+mod filter;
+mod inertia;
+mod iterate;
 pub mod kkt;
 pub mod lbfgs;
+mod line_search;
 pub mod linsys;
 mod mu_oracle;
 pub mod ordering;
+mod refine;
+mod restoration;
+mod result;
 pub mod scaled;
+mod setup;
 
 use crate::nlp::Nlp;
-use crate::solver::{ControlFlow, IterationRecord, SolveError, SolveResult, Solver, SolverOptions};
+use crate::observer::Observer;
+use crate::solver::{LinearSolver, SolveError, SolveResult, Solver, SolverOptions};
 use linsys::{FaerLblt, FaerLdlt};
 
 /// The interior-point solver with faer's sparse LDLᵀ as the KKT linear solver.
@@ -40,20 +60,17 @@ impl Solver for InteriorPoint {
         &self,
         nlp: &dyn Nlp,
         options: &SolverOptions,
-        observer: &mut dyn FnMut(&IterationRecord) -> ControlFlow,
+        observer: &mut dyn Observer,
     ) -> Result<SolveResult, SolveError> {
-        // KKT linear solver: faer LDLᵀ (default) or, for experiments, the pivoting
-        // LBLᵀ (environment STRIDE_KKT=lblt; see docs/decisions/0002-solver.md)
-        match std::env::var("STRIDE_KKT").ok().as_deref() {
-            None | Some("ldlt") => algorithm::solve(nlp, options, observer, &mut FaerLdlt::new()),
-            Some("lblt") => algorithm::solve(nlp, options, observer, &mut FaerLblt::new()),
-            Some(other) => Err(SolveError::InvalidOption {
-                name: "STRIDE_KKT",
-                reason: format!("`{other}` is not a KKT solver (use `ldlt` or `lblt`)"),
-            }),
+        // faer LDLᵀ (default) or, for experiments, the pivoting LBLᵀ (decision 0002)
+        match options.linear_solver {
+            LinearSolver::Ldlt => algorithm::solve(nlp, options, observer, &mut FaerLdlt::new()),
+            LinearSolver::Lblt => algorithm::solve(nlp, options, observer, &mut FaerLblt::new()),
         }
     }
 }
 
+#[cfg(test)]
+mod stage_tests;
 #[cfg(test)]
 mod tests;

@@ -8,13 +8,15 @@ use crate::problems::{
     Hs006, Hs021, Hs035, Hs071, InfeasibleDisk, PendulumChain, RosenbrockDisk, WaechterBiegler,
 };
 use crate::solver::{
-    HessianMode, KktOrdering, MuGlobalisation, MuOracle, MuStrategy, SolveError, SolveResult,
-    SolveStatus, Solver, SolverOptions,
+    HessianMode, IterationRecord, KktOrdering, MuGlobalisation, MuOracle, MuStrategy, SolveError,
+    SolveResult, SolveStatus, Solver, SolverOptions,
 };
 
 fn run(nlp: &dyn Nlp, opts: &SolverOptions) -> SolveResult {
     InteriorPoint::new()
-        .solve(nlp, opts, &mut |_| ControlFlow::Continue(()))
+        .solve(nlp, opts, &mut |_: &IterationRecord| {
+            ControlFlow::Continue(())
+        })
         .expect("solve returned an error")
 }
 
@@ -301,7 +303,7 @@ fn adaptive_tight() -> SolverOptions {
 }
 
 #[test]
-fn exact_hessian_tail_reaches_the_exact_hessian_optimum_in_fewer_iterations() {
+fn hybrid_hessian_reaches_the_exact_hessian_optimum_in_fewer_iterations() {
     // L-BFGS until μ sits at its floor, then Newton steps with the exact Hessian.
     let p = PendulumChain::new(3, 40);
     let base = adaptive_tight();
@@ -314,7 +316,7 @@ fn exact_hessian_tail_reaches_the_exact_hessian_optimum_in_fewer_iterations() {
     let hybrid = run(
         &p,
         &SolverOptions {
-            exact_hessian_tail: true,
+            hessian: HessianMode::Hybrid { history: 6 },
             ..lbfgs
         },
     );
@@ -343,18 +345,20 @@ fn stop_at_mu_floor_ends_where_the_exact_tail_would_start() {
     // the same point, near the optimum but before converging.
     let p = PendulumChain::new(3, 40);
     let hybrid = SolverOptions {
-        hessian: HessianMode::LimitedMemory { history: 6 },
-        exact_hessian_tail: true,
+        hessian: HessianMode::Hybrid { history: 6 },
         ..adaptive_tight()
     };
     let full = run(&p, &hybrid);
     let k = full.exact_hessian_from.expect("hybrid switches");
-    for tail in [true, false] {
+    for hessian in [
+        HessianMode::Hybrid { history: 6 },
+        HessianMode::LimitedMemory { history: 6 },
+    ] {
         let stopped = run(
             &p,
             &SolverOptions {
                 stop_at_mu_floor: true,
-                exact_hessian_tail: tail,
+                hessian,
                 ..hybrid.clone()
             },
         );
@@ -370,7 +374,6 @@ fn stop_at_mu_floor_ends_where_the_exact_tail_would_start() {
     let exact = SolverOptions {
         hessian: HessianMode::Exact,
         stop_at_mu_floor: true,
-        exact_hessian_tail: false,
         ..hybrid
     };
     assert_eq!(run(&p, &exact).status, SolveStatus::Optimal);
@@ -390,14 +393,18 @@ fn collocation_cost_converges_with_mesh_refinement() {
 fn observer_can_interrupt_and_log_is_kept() {
     let mut calls = 0;
     let r = InteriorPoint::new()
-        .solve(&Hs071, &SolverOptions::default(), &mut |rec| {
-            calls += 1;
-            if rec.iter >= 2 {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
-        })
+        .solve(
+            &Hs071,
+            &SolverOptions::default(),
+            &mut |rec: &IterationRecord| {
+                calls += 1;
+                if rec.iter >= 2 {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            },
+        )
         .unwrap();
     assert_eq!(r.status, SolveStatus::Interrupted);
     assert_eq!(calls, 3);
@@ -502,10 +509,6 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
         let start = StartAt { nlp: &stiffer, x0 };
         let cold = run(&start, &opts);
         let warm = run(&start, &warm(&opts));
-        eprintln!(
-            "{name}: reference {} it, from the neighbouring optimum cold {} it, warm {} it",
-            reference.iterations, cold.iterations, warm.iterations
-        );
         for r in [&cold, &warm] {
             assert!(r.status.is_success(), "{name}: {:?}", r.status);
             assert!(
@@ -515,7 +518,13 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
                 reference.objective
             );
         }
-        assert!(warm.iterations < cold.iterations, "{name}");
+        assert!(
+            warm.iterations < cold.iterations,
+            "{name}: reference {} it, from the neighbouring optimum cold {} it, warm {} it",
+            reference.iterations,
+            cold.iterations,
+            warm.iterations
+        );
     }
     // With bounds active at the optimum (HS071: x₁ = 1 at its lower bound), started at the
     // published optimum: the default start pushes x₁ into the interior and re-centres.
@@ -530,12 +539,13 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
     };
     let cold = run(&start, &opts);
     let warm = run(&start, &warm(&opts));
-    eprintln!(
-        "hs071 from its optimum: cold {} it, warm {} it",
-        cold.iterations, warm.iterations
-    );
     for r in [&cold, &warm] {
-        assert!(r.status.is_success());
+        assert!(
+            r.status.is_success(),
+            "hs071 from its optimum: cold {} it, warm {} it",
+            cold.iterations,
+            warm.iterations
+        );
         assert!(
             (r.objective - 17.014_017_3).abs() < 1e-6,
             "f = {}",
@@ -652,9 +662,11 @@ impl Nlp for Broken {
 
 fn solve_err(kind: u8) -> SolveError {
     InteriorPoint::new()
-        .solve(&Broken { kind }, &SolverOptions::default(), &mut |_| {
-            ControlFlow::Continue(())
-        })
+        .solve(
+            &Broken { kind },
+            &SolverOptions::default(),
+            &mut |_: &IterationRecord| ControlFlow::Continue(()),
+        )
         .expect_err("expected an error")
 }
 
@@ -733,7 +745,9 @@ fn invalid_options_are_rejected() {
         ..SolverOptions::default()
     };
     let e = InteriorPoint::new()
-        .solve(&Hs071, &o, &mut |_| ControlFlow::Continue(()))
+        .solve(&Hs071, &o, &mut |_: &IterationRecord| {
+            ControlFlow::Continue(())
+        })
         .unwrap_err();
     assert!(matches!(e, SolveError::InvalidOption { name: "tol", .. }));
 }

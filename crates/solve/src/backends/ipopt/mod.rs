@@ -22,9 +22,10 @@ use crate::backends::residuals::residuals;
 use crate::backends::setup::{prepare, Prepared};
 use crate::backends::timed::TimedNlp;
 use crate::nlp::{check_finite, Nlp, NlpFunction};
+use crate::observer::Observer;
 use crate::solver::{
-    ControlFlow, HessianMode, IterationRecord, MuStrategy, SolveError, SolveResult, SolveStatus,
-    Solver, SolverOptions,
+    HessianMode, IterationRecord, MuStrategy, SolveError, SolveResult, SolveStatus, Solver,
+    SolverOptions,
 };
 
 /// Serialises IPOPT solves within the process (sequential MUMPS is not thread-safe).
@@ -115,7 +116,7 @@ pub fn ipopt_options(
     }
     match o.hessian {
         HessianMode::Exact => v.push(("hessian_approximation", Str("exact".into()))),
-        HessianMode::LimitedMemory { history } => {
+        HessianMode::LimitedMemory { history } | HessianMode::Hybrid { history } => {
             v.push(("hessian_approximation", Str("limited-memory".into())));
             v.push((
                 "limited_memory_max_history",
@@ -438,7 +439,7 @@ impl Solver for IpoptSolver {
         &self,
         nlp: &dyn Nlp,
         options: &SolverOptions,
-        observer: &mut dyn FnMut(&IterationRecord) -> ControlFlow,
+        observer: &mut dyn Observer,
     ) -> Result<SolveResult, SolveError> {
         let opts = ipopt_options(options, &self.linear_solver)?;
         let prep = prepare(nlp)?;
@@ -446,7 +447,7 @@ impl Solver for IpoptSolver {
         let nele_jac = index("Jacobian nonzeros", prep.structures.jacobian.nnz())?;
         let nele_hess = match options.hessian {
             HessianMode::Exact => index("Hessian nonzeros", prep.structures.hessian.nnz())?,
-            HessianMode::LimitedMemory { .. } => 0,
+            HessianMode::LimitedMemory { .. } | HessianMode::Hybrid { .. } => 0,
         };
         let (ni, mi) = (index("n", n)?, index("m", m)?);
         let mut b = prep.bounds.clone();
@@ -568,6 +569,7 @@ impl Solver for IpoptSolver {
 mod tests {
     use super::*;
     use crate::backends::tests::{assert_hs071, assert_rosenbrock, run, Hs071, Rosenbrock};
+    use crate::solver::ControlFlow;
 
     #[test]
     fn hs071_exact_hessian() {
@@ -625,8 +627,7 @@ mod tests {
     #[test]
     fn hybrid_hessian_is_an_option_error() {
         let o = SolverOptions {
-            hessian: HessianMode::LimitedMemory { history: 6 },
-            exact_hessian_tail: true,
+            hessian: HessianMode::Hybrid { history: 6 },
             ..SolverOptions::default()
         };
         let e = ipopt_options(&o, "mumps").unwrap_err();
@@ -634,7 +635,7 @@ mod tests {
             matches!(
                 e,
                 SolveError::InvalidOption {
-                    name: "exact_hessian_tail",
+                    name: "hessian",
                     ..
                 }
             ),
