@@ -150,7 +150,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         &runner,
         &RunOptions {
             jobs,
-            quiet: args.quiet,
+            progress: (!args.quiet).then_some(say as fn(&str)),
             retry_failed: args.retry_failed,
             only,
         },
@@ -298,4 +298,9 @@ pub fn report(args: ReportArgs) -> anyhow::Result<()> {
     );
     print_series(&report);
     Ok(())
+}
+
+/// Prints one progress line of a study run on stderr.
+fn say(line: &str) {
+    eprintln!("{line}");
 }

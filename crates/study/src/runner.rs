@@ -27,8 +27,9 @@ pub trait CaseRunner: Sync {
 pub struct RunOptions {
     /// Cases solved at the same time.
     pub jobs: usize,
-    /// No progress output.
-    pub quiet: bool,
+    /// Receives the progress lines (one per finished case with the counts and an estimate
+    /// of the time left, and every minute the running cases); `None`: no progress.
+    pub progress: Option<fn(&str)>,
     /// Run failed cases again (converged ones are always kept).
     pub retry_failed: bool,
     /// Run only these cases (a mask over the study's cases; `None`: all). The others are
@@ -166,8 +167,9 @@ pub fn run_study(
         let workers: Vec<_> = (0..jobs)
             .map(|_| scope.spawn(|| worker(study, store, runner, opts, &axes, &shared, &wake)))
             .collect();
-        if !opts.quiet {
-            scope.spawn(|| heartbeat(cases, &shared, &wake));
+        if let Some(say) = opts.progress {
+            let (shared, wake) = (&shared, &wake);
+            scope.spawn(move || heartbeat(cases, shared, wake, say));
         }
         for w in workers {
             let _ = w.join();
@@ -302,8 +304,8 @@ fn worker(
                 sh.error = Some(e);
             }
         }
-        if !opts.quiet {
-            print_progress(&sh, cases.len(), opts.jobs, &record);
+        if let Some(say) = opts.progress {
+            say(&progress_line(&sh, cases.len(), opts.jobs, &record));
         }
         drop(sh);
         wake.notify_all();
@@ -392,9 +394,9 @@ fn make_record(
     }
 }
 
-/// Every `HEARTBEAT` while cases run, print which ones, for how long and at which solver
+/// Every `HEARTBEAT` while cases run, say which ones, for how long and at which solver
 /// iteration.
-fn heartbeat(cases: &[Case], shared: &Mutex<Shared>, wake: &Condvar) {
+fn heartbeat(cases: &[Case], shared: &Mutex<Shared>, wake: &Condvar, say: fn(&str)) {
     let mut sh = shared.lock().unwrap_or_else(|e| e.into_inner());
     let mut last = Instant::now();
     while !sh.finished {
@@ -422,7 +424,7 @@ fn heartbeat(cases: &[Case], shared: &Mutex<Shared>, wake: &Condvar) {
             })
             .collect();
         if !running.is_empty() {
-            eprintln!("  running: {}", running.join(", "));
+            say(&format!("  running: {}", running.join(", ")));
         }
     }
 }
@@ -430,7 +432,7 @@ fn heartbeat(cases: &[Case], shared: &Mutex<Shared>, wake: &Condvar) {
 /// Interval of the "still running" lines.
 const HEARTBEAT: Duration = Duration::from_secs(60);
 
-fn print_progress(sh: &Shared, total: usize, jobs: usize, last: &CaseRecord) {
+fn progress_line(sh: &Shared, total: usize, jobs: usize, last: &CaseRecord) -> String {
     let done = sh.state.iter().filter(|s| **s == State::Done).count();
     let failed = sh
         .records
@@ -450,12 +452,12 @@ fn print_progress(sh: &Shared, total: usize, jobs: usize, last: &CaseRecord) {
     } else {
         String::new()
     };
-    eprintln!(
+    format!(
         "[{done}/{total} done, {failed} failed, {} running, {remaining} remaining{left_out}, ~{eta} left] {}: {} {} ({:.1} s)",
         sh.running,
         last.name,
         last.status.as_str(),
         last.reason,
         last.time_s
-    );
+    )
 }

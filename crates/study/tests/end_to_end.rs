@@ -56,7 +56,7 @@ guesses = ["quasi-random", "full-os", "partial-os"]
         &runner,
         &RunOptions {
             jobs: 2,
-            quiet: true,
+            progress: None,
             retry_failed: false,
             only: None,
         },

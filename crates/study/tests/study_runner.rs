@@ -124,7 +124,7 @@ strength = [{ group = "hip", scale = 0.5 }]
 fn opts(jobs: usize) -> RunOptions {
     RunOptions {
         jobs,
-        quiet: true,
+        progress: None,
         retry_failed: false,
         only: None,
     }
@@ -307,7 +307,7 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
         &Fake::new(),
         &RunOptions {
             jobs: 2,
-            quiet: true,
+            progress: None,
             retry_failed: true,
             only: None,
         },
