@@ -146,14 +146,7 @@ fn ligament(
     model: &mut Model,
 ) -> Result<Ligament, OsimError> {
     let gp = ctx.req(f, "GeometryPath")?;
-    let pps = ctx.req(gp, "PathPointSet")?;
-    let mut path = Vec::new();
-    for p in objects(pps) {
-        path.push(path_point(ctx, p, v4, frames, model)?);
-    }
-    if path.len() < 2 {
-        return Err(ctx.err(pps, "a ligament path needs at least 2 points"));
-    }
+    let path = geometry_path_points(ctx, gp, "ligament", v4, frames, model)?;
     if let Some(pw) = child(gp, "PathWrapSet") {
         for w in objects(pw) {
             let obj = child_text(w, "wrap_object").to_string();
@@ -227,6 +220,33 @@ fn coordinate_force(ctx: &Ctx, f: El, model: &Model) -> Result<CoordinateForce, 
     })
 }
 
+/// The path points of a `GeometryPath` (at least two) of a muscle or ligament (`owner`
+/// names it in errors).
+fn geometry_path_points(
+    ctx: &Ctx,
+    gp: El,
+    owner: &str,
+    v4: bool,
+    frames: &Frames,
+    model: &mut Model,
+) -> Result<Vec<PathPoint>, OsimError> {
+    let pps = ctx.req(gp, "PathPointSet")?;
+    let mut path = Vec::new();
+    for p in objects(pps) {
+        path.push(path_point(ctx, p, v4, frames, model)?);
+    }
+    if path.len() < 2 {
+        return Err(ctx.err(
+            pps,
+            format!(
+                "a {owner} path needs at least 2 points, found {}",
+                path.len()
+            ),
+        ));
+    }
+    Ok(path)
+}
+
 /// One Hill-type muscle.
 fn muscle(
     ctx: &Ctx,
@@ -237,20 +257,7 @@ fn muscle(
     model: &mut Model,
 ) -> Result<Muscle, OsimError> {
     let gp = ctx.req(f, "GeometryPath")?;
-    let pps = ctx.req(gp, "PathPointSet")?;
-    let mut path = Vec::new();
-    for p in objects(pps) {
-        path.push(path_point(ctx, p, v4, frames, model)?);
-    }
-    if path.len() < 2 {
-        return Err(ctx.err(
-            pps,
-            format!(
-                "a muscle path needs at least 2 points, found {}",
-                path.len()
-            ),
-        ));
-    }
+    let path = geometry_path_points(ctx, gp, "muscle", v4, frames, model)?;
     let wraps = super::wrap::read_path_wraps(ctx, gp, path.len(), model)?;
     let positive = |tagname: &str, v: f64| -> Result<f64, OsimError> {
         if v > 0.0 && v.is_finite() {
