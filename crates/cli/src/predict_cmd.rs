@@ -138,10 +138,8 @@ pub(crate) fn backend(name: &str) -> anyhow::Result<Box<dyn Solver + Sync>> {
 /// The Hessian named on the command line or in a study file for solver `backend`: `hybrid`
 /// (L-BFGS with 6 pairs until μ reaches its floor, then exact; the default with `ipm`, the
 /// only backend that has it), `limited-memory` (L-BFGS throughout, the paper's choice and the
-/// default with `ipopt`) or `exact`. At 50 intervals hybrid converged in 272 and 360
-/// iterations (data-informed, quasi-random) to lower optima than L-BFGS in 664 and 762; with
-/// the exact Hessian from the start the pure-Rust solver stalls from 20 intervals on
-/// (decision 0002).
+/// default with `ipopt`) or `exact`. Why hybrid is the default (fewer iterations and lower
+/// optima than L-BFGS; the exact Hessian from the start stalls on fine meshes): decision 0002.
 pub(crate) fn parse_hessian(name: Option<&str>, backend: &str) -> anyhow::Result<HessianMode> {
     let lbfgs = HessianMode::LimitedMemory { history: 6 };
     let hybrid = HessianMode::Hybrid { history: 6 };
@@ -197,8 +195,8 @@ pub(crate) const DEFAULT_TIME_LIMIT_S: f64 = 1800.0;
 /// Largest constraint violation (unscaled, max-norm) of a converged prediction.
 pub(crate) const PREDICTION_CONSTR_VIOL_TOL: f64 = 1e-6;
 
-/// Centrality correctors per iteration of a hybrid-Hessian prediction unless set: at 50
-/// intervals they cut the data-informed solve from 283 to 233 iterations (decision 0002).
+/// Centrality correctors per iteration of a hybrid-Hessian prediction unless set; they
+/// save iterations in the limited-memory phase (decision 0002).
 pub(crate) const HYBRID_CORRECTORS: usize = 2;
 
 /// Solver options of a prediction: tolerance (default 1e-4), iteration limit (default
