@@ -35,6 +35,10 @@ pub struct TrackArgs {
     /// Mesh intervals over the window (default 50).
     #[arg(long)]
     pub mesh: Option<usize>,
+    /// Calibrate the contact spheres (x, z and radius of each right-foot sphere, mirrored
+    /// on the left): writes contact_parameters.csv and contact_geometry.toml.
+    #[arg(long)]
+    pub calibrate_contact: bool,
     /// Hessian: hybrid (default), limited-memory, or exact.
     #[arg(long)]
     pub hessian: Option<String>,
@@ -95,6 +99,9 @@ fn settings(args: &TrackArgs, file: &TrackFile) -> anyhow::Result<TrackSettings>
     }
     if let Some(n) = args.mesh {
         s.mesh_intervals = n;
+    }
+    if args.calibrate_contact {
+        s.calibrate_contact = true;
     }
     Ok(s)
 }
@@ -179,6 +186,12 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
         println!(
             "  {:<16} RMSE {:>6.1} N ({bw:.1} % BW)  R² {:.3}",
             e.name, e.rmse, e.r2
+        );
+    }
+    if tp.settings.calibrate_contact {
+        println!(
+            "  calibrated contact spheres: {}",
+            out.join("contact_geometry.toml").display()
         );
     }
     println!("results in {}", out.display());

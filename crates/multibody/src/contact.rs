@@ -7,7 +7,7 @@ use stride_model::{ContactParameters, Model};
 use crate::data::Data;
 use crate::error::MultibodyError;
 use crate::kinematics::{check_len, point_position};
-use crate::spatial::{add, cross, cst3, dot, dot_f, scale, sub, zero3, Vec3};
+use crate::spatial::{add, cross, cst3, dot, dot_f, mat_vec, scale, sub, zero3, Vec3};
 
 /// Contact result of one sphere, in ground.
 #[derive(Clone, Copy, Debug)]
@@ -36,12 +36,36 @@ impl<T: Scalar> Default for SphereForce<T> {
     }
 }
 
+/// Geometry of one contact sphere as scalars of the generic type, so that an optimiser can
+/// treat it as unknown: centre in the body frame [m] and radius [m].
+#[derive(Clone, Copy, Debug)]
+pub struct SphereGeometry<T: Scalar> {
+    /// Sphere centre in the frame of its body [m].
+    pub location: Vec3<T>,
+    /// Radius [m].
+    pub radius: T,
+}
+
+impl<T: Scalar> SphereGeometry<T> {
+    /// The geometry of every sphere of `model`, as constants.
+    pub fn of_model(model: &Model) -> Vec<Self> {
+        model
+            .contacts
+            .iter()
+            .map(|s| Self {
+                location: cst3(s.location),
+                radius: T::cst(s.radius),
+            })
+            .collect()
+    }
+}
+
 /// Normal force f_n [N] of the smoothed Hertz / Hunt–Crossley law (steps 6–7) for
 /// indentation `delta` [m], indentation rate `delta_dot` [m s⁻¹] and sphere radius [m].
 #[inline]
-pub fn normal_force<T: Scalar>(p: &ContactParameters, radius: f64, delta: T, delta_dot: T) -> T {
+pub fn normal_force<T: Scalar>(p: &ContactParameters, radius: T, delta: T, delta_dot: T) -> T {
     let k = 0.5 * p.stiffness.powf(2.0 / 3.0);
-    let c_h = 4.0 / 3.0 * k * (radius * k).sqrt();
+    let c_h = (radius * k).sqrt() * (4.0 / 3.0 * k);
     // (sqrt(δ² + c_f))^{3/2} = r · sqrt(r) with r = sqrt(δ² + c_f) (two square roots are
     // cheaper than a general power, on f64 and on tapes).
     let r = (delta * delta + p.constant_contact_force).sqrt();
@@ -85,7 +109,7 @@ pub fn smooth_min_one<T: Scalar>(x: T, eps: f64) -> T {
 #[allow(clippy::too_many_arguments)]
 pub fn sphere_force<T: Scalar>(
     p: &ContactParameters,
-    radius: f64,
+    radius: T,
     center: Vec3<T>,
     origin: Vec3<T>,
     v_origin: Vec3<T>,
@@ -95,7 +119,7 @@ pub fn sphere_force<T: Scalar>(
 ) -> SphereForce<T> {
     let n: Vec3<T> = cst3(normal);
     let height = dot_f(sub(center, cst3(plane_point)), normal);
-    let delta = height.rsub(radius);
+    let delta = radius - height;
     // P = c − R n + ½ δ n.
     let point = add(center, scale(n, delta * 0.5 - radius));
     let v_p = add(v_origin, cross(omega, sub(point, origin)));
@@ -123,13 +147,33 @@ pub fn contact_forces<T: Scalar>(
     data: &mut Data<T>,
     out: &mut [SphereForce<T>],
 ) -> Result<(), MultibodyError> {
+    contact_forces_with_geometry(model, data, None, out)
+}
+
+/// [`contact_forces`] with the sphere centres and radii of `geometry` (one per sphere of
+/// `model`, in its order) instead of the model's; `None`: the model's.
+pub fn contact_forces_with_geometry<T: Scalar>(
+    model: &Model,
+    data: &mut Data<T>,
+    geometry: Option<&[SphereGeometry<T>]>,
+    out: &mut [SphereForce<T>],
+) -> Result<(), MultibodyError> {
     check_len("sphere outputs", model.contacts.len(), out.len())?;
+    if let Some(g) = geometry {
+        check_len("sphere geometries", model.contacts.len(), g.len())?;
+    }
     for (i, s) in model.contacts.iter().enumerate() {
         let b = s.body;
-        let center = point_position(data, b, s.location);
+        let (center, radius) = match geometry {
+            Some(g) => (
+                add(data.position[b], mat_vec(&data.rotation[b], g[i].location)),
+                g[i].radius,
+            ),
+            None => (point_position(data, b, s.location), T::cst(s.radius)),
+        };
         let r = sphere_force(
             &s.parameters,
-            s.radius,
+            radius,
             center,
             data.position[b],
             data.linear_velocity[b],

@@ -24,7 +24,9 @@ pub mod kinematics;
 pub mod skeleton;
 pub mod spatial;
 
-pub use contact::{contact_forces, sphere_force, SphereForce};
+pub use contact::{
+    contact_forces, contact_forces_with_geometry, sphere_force, SphereForce, SphereGeometry,
+};
 pub use data::{ContactGroups, Data};
 pub use dynamics::{accelerations, inverse_dynamics, inverse_dynamics_from_kinematics};
 pub use error::MultibodyError;
@@ -32,4 +34,6 @@ pub use kinematics::{
     center_of_mass, forward_kinematics, kinetic_energy, point_position, point_velocity,
     potential_energy,
 };
-pub use skeleton::{center_of_pressure, skeleton_dynamics, SkeletonOutput};
+pub use skeleton::{
+    center_of_pressure, skeleton_dynamics, skeleton_dynamics_with_geometry, SkeletonOutput,
+};

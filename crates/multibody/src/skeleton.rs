@@ -5,7 +5,7 @@
 use stride_ad::Scalar;
 use stride_model::Model;
 
-use crate::contact::{contact_forces, SphereForce};
+use crate::contact::{contact_forces_with_geometry, SphereForce, SphereGeometry};
 use crate::data::Data;
 use crate::dynamics::{accelerations, inverse_dynamics_from_kinematics};
 use crate::error::MultibodyError;
@@ -52,9 +52,23 @@ pub fn skeleton_dynamics<T: Scalar>(
     qdd: &[T],
     out: &mut SkeletonOutput<T>,
 ) -> Result<(), MultibodyError> {
+    skeleton_dynamics_with_geometry(model, data, q, v, qdd, None, out)
+}
+
+/// [`skeleton_dynamics`] with the contact sphere centres and radii of `geometry` (one per
+/// sphere of `model`) instead of the model's; `None`: the model's.
+pub fn skeleton_dynamics_with_geometry<T: Scalar>(
+    model: &Model,
+    data: &mut Data<T>,
+    q: &[T],
+    v: &[T],
+    qdd: &[T],
+    geometry: Option<&[SphereGeometry<T>]>,
+    out: &mut SkeletonOutput<T>,
+) -> Result<(), MultibodyError> {
     accelerations(model, data, q, v, qdd)?;
     data.clear_external();
-    contact_forces(model, data, &mut out.spheres)?;
+    contact_forces_with_geometry(model, data, geometry, &mut out.spheres)?;
     inverse_dynamics_from_kinematics(model, data, &mut out.tau)?;
     out.body_origins.copy_from_slice(&data.position);
     let ng = data.groups.names.len();

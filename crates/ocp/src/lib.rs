@@ -5,12 +5,15 @@
 //! - [`gait`]: the gait view of a model (coordinate roles, mirror maps).
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
+//! - [`contact_geometry`]: contact-sphere geometry files (calibrated spheres).
+//! - [`statics`]: static parameters (constant over time) appended to the NLP vector.
 //! - [`outputs`]: the files of a result folder (OpenSim files, tables).
 //! - [`measures`]: trunk sway and stance measures compared between conditions.
 //! - [`bench`]: timing of the NLP derivatives (`stride bench derivatives`).
 
 pub mod bench;
 pub mod bounds;
+pub mod contact_geometry;
 pub mod data;
 pub mod experimental;
 pub mod figures;
@@ -27,6 +30,7 @@ pub mod radau;
 pub mod settings;
 pub mod size;
 pub mod solution;
+pub mod statics;
 pub mod tape_node;
 pub mod tracking;
 pub mod trajectory;

@@ -66,6 +66,9 @@ pub struct NodeModel {
     /// Tracking terms: the cost tracks measured data given as constant inputs after the
     /// variable inputs, and the root residuals equal measured values (`None`: prediction).
     tracking: Option<crate::tracking::TrackingTerms>,
+    /// Static parameters: inputs after the variable inputs (before the tracking
+    /// constants), scaled as NLP variables.
+    statics: crate::statics::StaticParameters,
 }
 
 /// Number of path-constraint outputs and their order.
@@ -232,6 +235,7 @@ impl NodeModel {
             },
             model,
             tracking: None,
+            statics: Default::default(),
         })
     }
 
@@ -242,9 +246,28 @@ impl NodeModel {
         self
     }
 
-    /// Number of inputs: the variable inputs and the tracking constants.
+    /// The node function with the static parameters `statics` as inputs after the variable
+    /// inputs (and before any tracking constants).
+    pub fn with_statics(mut self, statics: crate::statics::StaticParameters) -> Self {
+        self.statics = statics;
+        self
+    }
+
+    /// The static parameters the node function reads.
+    pub fn statics(&self) -> &crate::statics::StaticParameters {
+        &self.statics
+    }
+
+    /// Offset of the tracking constants in the inputs (after the variable inputs and the
+    /// static parameters).
+    fn data_offset(&self) -> usize {
+        self.inputs.len() + self.statics.len()
+    }
+
+    /// Number of inputs: the variable inputs, the static parameters and the tracking
+    /// constants.
     pub fn n_inputs(&self) -> usize {
-        self.inputs.len() + self.tracking.as_ref().map_or(0, |t| t.n_data())
+        self.data_offset() + self.tracking.as_ref().map_or(0, |t| t.n_data())
     }
 
     /// Sizes of the path-constraint outputs.
@@ -353,13 +376,18 @@ impl NodeModel {
             }
             sum_a2 += a * a;
         }
-        // Inverse dynamics with contact.
-        stride_multibody::skeleton_dynamics(
+        // Inverse dynamics with contact (sphere geometry from the static parameters).
+        let geometry = self.statics.sets_contact().then(|| {
+            let scaled = &x[io.len()..self.data_offset()];
+            self.statics.sphere_geometry(&self.model, scaled)
+        });
+        stride_multibody::skeleton_dynamics_with_geometry(
             &self.model,
             &mut ws.data,
             &ws.q,
             &ws.v,
             &ws.qdd,
+            geometry.as_deref(),
             &mut ws.skeleton,
         )
         .expect("skeleton workspace sized at construction");
@@ -367,7 +395,7 @@ impl NodeModel {
         let mut out = 0;
         for (r, &i) in self.root.iter().enumerate() {
             y[out] = match &self.tracking {
-                Some(t) => tau[self.coord_model[i]] - x[io.len() + t.root_offset() + r],
+                Some(t) => tau[self.coord_model[i]] - x[self.data_offset() + t.root_offset() + r],
                 None => tau[self.coord_model[i]],
             };
             out += 1;
@@ -415,7 +443,7 @@ impl NodeModel {
             let slack = (sum_da2 / nm as f64 + sum_df2 / nm as f64) * t.weights.slack_controls;
             let tracked = crate::tracking::TrackedModel {
                 x,
-                data: &x[io.len()..],
+                data: &x[self.data_offset()..],
                 q_offset: io.q(),
                 qdd_offset: io.qdd(),
                 nq: io.nq,

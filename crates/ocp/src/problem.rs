@@ -209,6 +209,11 @@ impl GaitProblem {
         if let Some(p) = &settings.prosthesis {
             apply_prosthesis(&mut model, p)?;
         }
+        if let Some(path) = &settings.contact_geometry {
+            crate::contact_geometry::ContactGeometry::read(path)
+                .and_then(|g| g.apply(&mut model, &path.display().to_string()))
+                .map_err(|e| ProblemError::Model(e.to_string()))?;
+        }
         let gait = GaitModel::new(&model)?;
         let data = Kinematics::from_storage(bounds_data, &gait, "bounds kinematics")?;
         let bounds = CoordinateBounds::new(&gait, &data, settings)?;

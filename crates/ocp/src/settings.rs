@@ -44,6 +44,9 @@ pub struct ProblemSettings {
     /// Passive transtibial prosthesis on the right leg (FORMULATION 12.1); needs
     /// `cycle = "full-periodic"`.
     pub prosthesis: Option<Prosthesis>,
+    /// Contact geometry file (TOML, as `stride track --calibrate-contact` writes it) whose
+    /// sphere centres and radii replace the model's; unset: the model's spheres.
+    pub contact_geometry: Option<std::path::PathBuf>,
 }
 
 /// Default half-width of the friction law's smoothed transition at v_slip = v_t (a
@@ -148,6 +151,7 @@ impl Default for ProblemSettings {
             transcription: TranscriptionVariant::V2,
             min_distances: paper_distances(),
             prosthesis: None,
+            contact_geometry: None,
         }
     }
 }

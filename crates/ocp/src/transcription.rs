@@ -293,6 +293,36 @@ pub struct TrackingData {
     pub duration: f64,
 }
 
+/// The static parameters of a transcription (constant over time): NLP variables after the
+/// layout's, read by every node as inputs after its variable inputs.
+#[derive(Clone, Debug, Default)]
+pub struct StaticBlock {
+    /// Lower bounds of the scaled parameters.
+    pub lower: Vec<f64>,
+    /// Upper bounds of the scaled parameters.
+    pub upper: Vec<f64>,
+}
+
+impl StaticBlock {
+    /// The block of `statics`: every parameter bounded to [−0.5, 0.5] by its scaling.
+    pub fn of(statics: &crate::statics::StaticParameters) -> Self {
+        Self {
+            lower: vec![-0.5; statics.len()],
+            upper: vec![0.5; statics.len()],
+        }
+    }
+
+    /// Number of static parameters.
+    pub fn len(&self) -> usize {
+        self.lower.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.lower.is_empty()
+    }
+}
+
 /// Marks a node Hessian entry that involves a constant input (not scattered).
 const NO_SLOT: usize = usize::MAX;
 
@@ -301,7 +331,6 @@ pub struct Transcription<F: NodeFunction> {
     /// The problem.
     pub problem: GaitProblem,
     node: F,
-    inputs: NodeInputs,
     n_nodes: usize,
     n_out: usize,
     n_path: usize,
@@ -338,21 +367,45 @@ pub struct Transcription<F: NodeFunction> {
     node_hessians: Mutex<Vec<f64>>,
     /// Tracking problem data (`None`: the predictive problem).
     tracking: Option<TrackingData>,
+    /// Static parameters (NLP variables from `problem.layout.len()` on).
+    statics: StaticBlock,
+    /// Variable inputs per node: the point's variables and the static parameters.
+    n_var: usize,
 }
 
 impl<F: NodeFunction> Transcription<F> {
     /// Transcribe `problem` with the node function `node`, starting from `x0`.
     pub fn new(problem: GaitProblem, node: F, x0: Vec<f64>) -> Self {
-        Self::build(problem, node, x0, None)
+        Self::build(problem, node, x0, None, StaticBlock::default())
     }
 
     /// Transcribe the tracking problem `problem` with the node function `node` (whose
     /// inputs end with `tracking.n_data` constants), starting from `x0`.
     pub fn tracking(problem: GaitProblem, node: F, x0: Vec<f64>, tracking: TrackingData) -> Self {
-        Self::build(problem, node, x0, Some(tracking))
+        Self::build(problem, node, x0, Some(tracking), StaticBlock::default())
     }
 
-    fn build(problem: GaitProblem, node: F, x0: Vec<f64>, tracking: Option<TrackingData>) -> Self {
+    /// Transcribe `problem` (a prediction, or a tracking problem with `tracking`) with
+    /// static parameters: `x0` ends with their scaled initial values, and the node
+    /// function's inputs are its variable inputs, then the static parameters, then the
+    /// tracking constants.
+    pub fn with_statics(
+        problem: GaitProblem,
+        node: F,
+        x0: Vec<f64>,
+        tracking: Option<TrackingData>,
+        statics: StaticBlock,
+    ) -> Self {
+        Self::build(problem, node, x0, tracking, statics)
+    }
+
+    fn build(
+        problem: GaitProblem,
+        node: F,
+        x0: Vec<f64>,
+        tracking: Option<TrackingData>,
+        statics: StaticBlock,
+    ) -> Self {
         let l = problem.layout.clone();
         let inputs = NodeInputs {
             nm: l.nm,
@@ -360,16 +413,22 @@ impl<F: NodeFunction> Transcription<F> {
             na: l.na,
         };
         let n_data = tracking.as_ref().map_or(0, |t| t.n_data);
-        let n_var = inputs.len();
+        let n_var = inputs.len() + statics.len();
         assert_eq!(node.n_inputs(), n_var + n_data, "node function inputs");
+        assert_eq!(x0.len(), l.len() + statics.len(), "initial point length");
         let n_out = node.n_outputs();
         let n_path = n_out - 1;
         let n_nodes = 3 * l.n;
         let ns = l.n_states();
         let per_point = ns + n_path;
+        let static_globals: Vec<usize> = (l.len()..l.len() + statics.len()).collect();
         let node_globals: Vec<usize> = (0..l.n)
             .flat_map(|k| (1..=3).map(move |j| (k, j)))
-            .flat_map(|(k, j)| inputs.global_indices(&l, k, j))
+            .flat_map(|(k, j)| {
+                let mut g = inputs.global_indices(&l, k, j);
+                g.extend_from_slice(&static_globals);
+                g
+            })
             .collect();
         let node_jac_pattern = node.jacobian_pattern();
         let node_hess_pattern = node.hessian_pattern();
@@ -399,7 +458,7 @@ impl<F: NodeFunction> Transcription<F> {
         let s = &problem.scaling;
         for node_i in 0..n_nodes {
             let (k, j) = (node_i / 3, node_i % 3 + 1);
-            let g = &node_globals[node_i * inputs.len()..(node_i + 1) * inputs.len()];
+            let g = &node_globals[node_i * n_var..(node_i + 1) * n_var];
             let base = node_i * per_point;
             // Collocation equations of every state component.
             for st in 0..ns {
@@ -615,7 +674,6 @@ impl<F: NodeFunction> Transcription<F> {
         Self {
             problem,
             node,
-            inputs,
             n_nodes,
             n_out,
             n_path,
@@ -643,6 +701,8 @@ impl<F: NodeFunction> Transcription<F> {
             cache: Mutex::new(Cache::default()),
             node_hessians: Mutex::new(Vec::new()),
             tracking,
+            statics,
+            n_var,
         }
     }
 
@@ -662,7 +722,7 @@ impl<F: NodeFunction> Transcription<F> {
 
     /// Inputs of node `i` gathered from the NLP vector (and its constants when tracking).
     fn gather(&self, x: &[f64], i: usize, out: &mut [f64]) {
-        let n = self.inputs.len();
+        let n = self.n_var;
         for (o, &g) in out.iter_mut().zip(&self.node_globals[i * n..(i + 1) * n]) {
             *o = x[g];
         }
@@ -672,9 +732,10 @@ impl<F: NodeFunction> Transcription<F> {
         }
     }
 
-    /// Inputs per node: the variable inputs and the tracking constants.
+    /// Inputs per node: the variable inputs (with the static parameters) and the tracking
+    /// constants.
     fn node_inputs(&self) -> usize {
-        self.inputs.len() + self.tracking.as_ref().map_or(0, |t| t.n_data)
+        self.n_var + self.tracking.as_ref().map_or(0, |t| t.n_data)
     }
 
     /// Scale of the forward translation in the distance of the cost (0 when the cost is not
@@ -793,18 +854,24 @@ fn check(function: NlpFunction, v: &[f64]) -> Result<(), EvalError> {
 
 impl<F: NodeFunction> Nlp for Transcription<F> {
     fn n(&self) -> usize {
-        self.problem.layout.len()
+        self.problem.layout.len() + self.statics.len()
     }
     fn blocks(&self) -> Option<BlockStructure> {
-        Some(self.problem.layout.interval_blocks())
+        let mut b = self.problem.layout.interval_blocks();
+        let first = self.problem.layout.len();
+        b.global_variables.extend(first..first + self.statics.len());
+        Some(b)
     }
     fn m(&self) -> usize {
         self.n_constraints
     }
     fn bounds(&self, x_l: &mut [f64], x_u: &mut [f64], g_l: &mut [f64], g_u: &mut [f64]) {
         let (lo, hi) = self.problem.variable_bounds();
-        x_l.copy_from_slice(&lo);
-        x_u.copy_from_slice(&hi);
+        let n = lo.len();
+        x_l[..n].copy_from_slice(&lo);
+        x_u[..n].copy_from_slice(&hi);
+        x_l[n..].copy_from_slice(&self.statics.lower);
+        x_u[n..].copy_from_slice(&self.statics.upper);
         if let Some(t) = &self.tracking {
             let tf = self.problem.layout.tf();
             (x_l[tf], x_u[tf]) = (t.duration, t.duration);
@@ -823,7 +890,7 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
     fn gradient(&self, x: &[f64], grad: &mut [f64]) -> Result<(), EvalError> {
         grad.iter_mut().for_each(|g| *g = 0.0);
         let nj = self.node_jac_pattern.len();
-        let nin = self.inputs.len();
+        let nin = self.n_var;
         let b = radau::quadrature_weights();
         self.with_nodes(x, true, |c| {
             let (s, d, tf, cc) = self.cost_parts(x, &c.values);

@@ -25,6 +25,7 @@ fn shipped_study_files_expand_to_table_s3_counts() {
         ("speeds_vmax2.toml", 52 + 1),
         ("mesh100.toml", 2),
         ("prosthesis.toml", 2),
+        ("contact_models.toml", 2 + 2),
     ];
     let mut found: Vec<String> = std::fs::read_dir(studies_dir())
         .unwrap()
@@ -103,6 +104,22 @@ fn shipped_families_set_the_published_values() {
         .cases
         .iter()
         .all(|c| c.settings.prosthesis.is_some() && c.settings.mesh_intervals == 100));
+    // The calibrated-contact cases read the shipped geometry (relative to the repository
+    // root); the generic ones are the nominal settings.
+    let s = load("contact_models.toml");
+    for c in &s.cases {
+        match &c.settings.contact_geometry {
+            Some(p) => assert!(studies_dir().join("..").join(p).exists(), "{p:?}"),
+            None => assert_eq!(c.settings, s.base),
+        }
+    }
+    assert_eq!(
+        s.cases
+            .iter()
+            .filter(|c| c.settings.contact_geometry.is_some())
+            .count(),
+        2
+    );
     let s = load("speeds.toml");
     // The 1.33 anchor has only the three standard guesses.
     assert_eq!(

@@ -3,6 +3,7 @@
 //! measured joint angles, ground reaction forces and torques and net joint torques over a
 //! fixed time window (no symmetry, no speed constraint, fixed duration).
 
+pub mod calibration;
 pub mod output;
 pub mod terms;
 pub mod trial;
@@ -15,8 +16,9 @@ use crate::layout::Point;
 use crate::node::NodeModel;
 use crate::problem::{GaitProblem, ProblemError, Scaling};
 use crate::settings::{CycleKind, ProblemSettings};
+use crate::statics::StaticParameters;
 use crate::tape_node::TapeNode;
-use crate::transcription::{NodeInputs, TrackingData, Transcription};
+use crate::transcription::{NodeInputs, StaticBlock, TrackingData, Transcription};
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
@@ -49,6 +51,9 @@ pub struct TrackSettings {
     pub track_torques: bool,
     /// Weights of the cost.
     pub weights: TrackingWeights,
+    /// Calibrate the contact spheres (FORMULATION 12.6): the horizontal centres and radii
+    /// of the right-foot spheres, mirrored onto the left foot, are static parameters.
+    pub calibrate_contact: bool,
 }
 
 impl Default for TrackSettings {
@@ -63,6 +68,7 @@ impl Default for TrackSettings {
             coordinates: None,
             track_torques: true,
             weights: TrackingWeights::default(),
+            calibrate_contact: false,
         }
     }
 }
@@ -139,8 +145,11 @@ pub struct TrackingProblem {
     pub samples: Vec<Sample>,
     /// Constant node inputs and the fixed duration.
     pub data: TrackingData,
-    /// Initial guess (scaled NLP vector): the measured kinematics.
+    /// Initial guess (scaled NLP vector): the measured kinematics, then the static
+    /// parameters' initial values.
     pub x0: Vec<f64>,
+    /// Static parameters (the contact calibration's, or none).
+    pub statics: StaticParameters,
     /// The settings.
     pub settings: TrackSettings,
 }
@@ -217,8 +226,15 @@ impl TrackingProblem {
             n_data: terms.n_data(),
             duration: t1 - t0,
         };
-        let x0 = initial_guess(&problem, &trial, settings.window);
+        let statics = if settings.calibrate_contact {
+            calibration::contact_parameters(&problem.model)?
+        } else {
+            StaticParameters::default()
+        };
+        let mut x0 = initial_guess(&problem, &trial, settings.window);
+        x0.extend(statics.scaled_initial());
         Ok(Self {
+            statics,
             problem,
             terms,
             trial,
@@ -232,7 +248,9 @@ impl TrackingProblem {
 
     /// The node function of this problem (on `f64`, for post-processing).
     pub fn node(&self) -> Result<NodeModel, TrackError> {
-        Ok(NodeModel::new(&self.problem)?.with_tracking(self.terms.clone()))
+        Ok(NodeModel::new(&self.problem)?
+            .with_statics(self.statics.clone())
+            .with_tracking(self.terms.clone()))
     }
 
     /// The inputs of collocation point `i` (interval-major) at the NLP vector `x`.
@@ -249,19 +267,27 @@ impl TrackingProblem {
             .iter()
             .map(|&g| x[g])
             .collect();
+        v.extend_from_slice(self.static_variables(x));
         v.extend_from_slice(&self.data.node_data[i * d..(i + 1) * d]);
         v
+    }
+
+    /// The scaled static parameters in the NLP vector `x` (after the layout's variables).
+    pub fn static_variables<'a>(&self, x: &'a [f64]) -> &'a [f64] {
+        let first = self.problem.layout.len();
+        &x[first..first + self.statics.len()]
     }
 
     /// The transcribed NLP, its node function recorded on a tape.
     pub fn transcription(&self) -> Result<Transcription<TapeNode>, TrackError> {
         let node = self.node()?;
         let tape = TapeNode::record(&node, &self.node_inputs(&self.x0, 0))?;
-        Ok(Transcription::tracking(
+        Ok(Transcription::with_statics(
             self.problem.clone(),
             tape,
             self.x0.clone(),
-            self.data.clone(),
+            Some(self.data.clone()),
+            StaticBlock::of(&self.statics),
         ))
     }
 

@@ -259,7 +259,7 @@ pub fn write_results(
         objective: r.objective,
         constraint_violation: r.constraint_violation,
         time_total_s: r.time_total.as_secs_f64(),
-        nlp_variables: tp.problem.layout.len(),
+        nlp_variables: tp.problem.layout.len() + tp.statics.len(),
         errors: errors.clone(),
         settings: &tp.settings,
         solver: solver.into(),
@@ -289,6 +289,9 @@ pub fn write_results(
             "joint_torques.csv".into(),
             tracked.csv(&tracked.torques).into_bytes(),
         ));
+    }
+    if !tp.statics.is_empty() {
+        files.extend(calibration_files(tp, &r.x));
     }
     files.extend_from_slice(extra);
     let pick = |v: &[Channel], names: &[&str]| -> Vec<Channel> {
@@ -325,6 +328,26 @@ pub fn write_results(
     files.extend(render_files(&figs).map_err(|e| write_err(out, e))?);
     write_folder(out, &files)?;
     Ok(errors)
+}
+
+/// The calibrated contact parameters (`contact_parameters.csv`) and the contact geometry
+/// file a prediction reads through the `contact_geometry` setting
+/// (`contact_geometry.toml`).
+fn calibration_files(tp: &TrackingProblem, x: &[f64]) -> Vec<(String, Vec<u8>)> {
+    let scaled = tp.static_variables(x);
+    let values = tp.statics.values(scaled);
+    let geometry = super::calibration::calibrated_geometry(&tp.problem.model, &tp.statics, scaled);
+    let header = "contact spheres calibrated by `stride track --calibrate-contact` (FORMULATION 12.6); use with the problem setting contact_geometry";
+    vec![
+        (
+            "contact_parameters.csv".into(),
+            super::calibration::parameters_csv(&tp.statics, &values).into_bytes(),
+        ),
+        (
+            "contact_geometry.toml".into(),
+            geometry.to_toml(header).into_bytes(),
+        ),
+    ]
 }
 
 /// Model coordinates at the mesh points (OpenSim storage, degrees), trial time.
