@@ -8,16 +8,31 @@ Prints one JSON object on stdout and exits with status 1 when a check fails:
   states_are_paths     every column of states.sto (read as a TimeSeriesTable) is a state
                        variable path of that model;
   controls_are_paths   every column of controls.sto is an actuator path of that model;
-  moco_trajectory      trajectory.sto reads as a MocoTrajectory with the states and controls;
+  moco_trajectory      trajectory.sto reads as a MocoTrajectory with the states, controls and
+                       an acceleration (derivative) per coordinate;
   external_loads       grf.xml (with grf.mot) loads as ExternalLoads with two forces;
   inverse_dynamics     per coordinate, the largest difference over the cycle between
-                       OpenSim's InverseDynamicsTool (model.osim, motion.mot, grf.xml; model
-                       forces excluded, so only gravity, inertia and the ground reactions act)
-                       and joint_torques.csv, as a fraction of that torque's range over the
-                       cycle. The cycle is periodic: the motion and the ground reactions are
-                       extended by one cycle before and after it (forward position shifted
-                       by the stride) so that the tool's splines have no end effects, and the
-                       tool's torques are compared on the middle cycle.
+                       OpenSim's InverseDynamicsSolver and joint_torques.csv, as a fraction
+                       of that torque's range over the cycle. At every sample of
+                       trajectory.sto the solver gets the model (model.osim, every model
+                       force off, so only gravity, inertia and the ground reactions act, with
+                       grf.mot applied through grf.xml), the coordinate values and speeds,
+                       and the accelerations the file holds as Moco derivatives
+                       (`/jointset/<joint>/<coordinate>/accel`). Within 5 % passes.
+  inverse_dynamics_tool
+                       the same comparison with OpenSim's InverseDynamicsTool, which takes
+                       the accelerations from splines through motion.mot instead. Reported,
+                       not checked: the collocation's accelerations jump between mesh
+                       intervals at heel strike, which no spline through the samples
+                       follows. The cycle is periodic: the motion and the ground reactions
+                       are extended by one cycle before and after it (forward position
+                       shifted by the stride) so that the tool's splines have no end
+                       effects, and the tool's torques are compared on the middle cycle.
+  center_of_pressure   per foot, the largest horizontal distance [m] of the centre of
+                       pressure in grf.mot from the region under that foot (the
+                       bounding rectangle of its contact spheres' centres in ground, grown
+                       by their radius) over the samples where the foot carries more than
+                       20 N; within 1 cm passes.
 """
 
 import csv
@@ -33,6 +48,8 @@ CHECKED = ["hip_flexion", "hip_adduction", "hip_rotation", "knee_angle", "ankle_
            "subtalar_angle"]
 LUMBAR = ["lumbar_extension", "lumbar_bending", "lumbar_rotation"]
 TOLERANCE = 0.05
+COP_TOLERANCE = 0.01  # m
+LOADED = 20.0  # N
 
 
 def read_storage(path):
@@ -70,16 +87,129 @@ def tile(rows, period, shifts):
     return out
 
 
+def value_at(rows, col, t):
+    """Column `col` of the storage row whose time is nearest to `t`."""
+    return min(rows, key=lambda r: abs(r[0] - t))[col]
+
+
+def center_of_pressure(folder, model):
+    """Per foot, the largest horizontal distance [m] of its centre of pressure from the
+    rectangle under its contact spheres while it carries load."""
+    _, ml, mrows = read_storage(os.path.join(folder, "motion.mot"))
+    _, gl, grows = read_storage(os.path.join(folder, "grf.mot"))
+    state = model.initSystem()
+    coords = model.getCoordinateSet()
+    columns = [(coords.get(i), ml.index(coords.get(i).getName()))
+               for i in range(coords.getSize()) if coords.get(i).getName() in ml]
+    spheres = {"r": [], "l": []}
+    for i in range(model.getContactGeometrySet().getSize()):
+        g = model.getContactGeometrySet().get(i)
+        sphere = osim.ContactSphere.safeDownCast(g)
+        side = g.getFrame().getName()[-1]
+        if sphere is not None and side in spheres:
+            spheres[side].append(sphere)
+    result = {}
+    for side, group in spheres.items():
+        worst, loaded = 0.0, 0
+        fy = gl.index(f"{side}_ground_force_vy")
+        px, pz = gl.index(f"{side}_ground_force_px"), gl.index(f"{side}_ground_force_pz")
+        for g in grows:
+            if g[fy] <= LOADED:
+                continue
+            loaded += 1
+            m = min(mrows, key=lambda r: abs(r[0] - g[0]))
+            for c, k in columns:
+                rotational = c.getMotionType() == 1
+                c.setValue(state, math.radians(m[k]) if rotational else m[k], False)
+            model.realizePosition(state)
+            centres = [s.getFrame().findStationLocationInGround(state, s.get_location())
+                       for s in group]
+            r = max(s.getRadius() for s in group)
+            xs = [c.get(0) for c in centres]
+            zs = [c.get(2) for c in centres]
+            dx = max(min(xs) - r - g[px], g[px] - max(xs) - r, 0.0)
+            dz = max(min(zs) - r - g[pz], g[pz] - max(zs) - r, 0.0)
+            worst = max(worst, math.hypot(dx, dz))
+        result[side] = {"loaded_samples": loaded, "max_distance_outside": worst}
+    return result
+
+
+def u_index(model, state):
+    """Index in the state's U vector of every coordinate's speed, by coordinate name."""
+    coords = model.getCoordinateSet()
+    nu = state.getNU()
+    index = {}
+    for i in range(coords.getSize()):
+        c = coords.get(i)
+        state.setU(osim.Vector(nu, 0.0))
+        c.setSpeedValue(state, 1.0)
+        u = state.getU()
+        index[c.getName()] = next(k for k in range(nu) if u.get(k) == 1.0)
+    return index
+
+
+def solver_inverse_dynamics(folder, model_path):
+    """Per coordinate, OpenSim's InverseDynamicsSolver at the samples of trajectory.sto
+    (values, speeds and the accelerations written as Moco derivatives) against
+    joint_torques.csv."""
+    model = osim.Model(model_path)
+    forces = model.getForceSet()
+    for i in range(forces.getSize()):
+        forces.get(i).set_appliesForce(False)
+    loads = osim.ExternalLoads(os.path.join(folder, "grf.xml"), True)
+    loads.setDataFileName(os.path.join(folder, "grf.mot"))
+    model.addModelComponent(loads)
+    state = model.initSystem()
+    index = u_index(model, state)
+    coords = model.getCoordinateSet()
+    _, labels, rows = read_storage(os.path.join(folder, "trajectory.sto"))
+    paths = {}
+    for i in range(coords.getSize()):
+        c = coords.get(i)
+        base = f"/jointset/{c.getJoint().getName()}/{c.getName()}"
+        paths[c.getName()] = (c, labels.index(base + "/value"), labels.index(base + "/speed"),
+                              labels.index(base + "/accel"))
+    solver = osim.InverseDynamicsSolver(model)
+    nu = state.getNU()
+    theirs = {name: [] for name in paths}
+    for r in rows:
+        state.setTime(r[0])
+        udot = osim.Vector(nu, 0.0)
+        for name, (c, q, u, a) in paths.items():
+            c.setValue(state, r[q], False)
+            c.setSpeedValue(state, r[u])
+            udot.set(index[name], r[a])
+        model.realizeVelocity(state)
+        tau = solver.solve(state, udot)
+        for name in paths:
+            theirs[name].append(tau.get(index[name]))
+    with open(os.path.join(folder, "joint_torques.csv")) as f:
+        table = list(csv.reader(f))
+    names = [h.split(" [")[0] for h in table[0]]
+    ref = [[float(v) for v in r] for r in table[1:]]
+    if len(ref) != len(rows):
+        raise RuntimeError(f"trajectory.sto has {len(rows)} samples, joint_torques.csv {len(ref)}")
+    result = {}
+    for name in [f"{c}_{s}" for c in CHECKED for s in "rl"] + LUMBAR:
+        if name not in names or name not in theirs:
+            continue
+        ours = [r[names.index(name)] for r in ref]
+        diff = max(abs(a - b) for a, b in zip(ours, theirs[name]))
+        span = max(ours) - min(ours)
+        result[name] = {"max_abs_diff": diff, "range": span,
+                        "fraction_of_range": diff / span if span > 0 else math.inf}
+    return result
+
+
 def inverse_dynamics(folder, model_path, work):
     mh, ml, mrows = read_storage(os.path.join(folder, "motion.mot"))
     gh, gl, grows = read_storage(os.path.join(folder, "grf.mot"))
-    dt = mrows[1][0] - mrows[0][0]
-    period = mrows[-1][0] + dt
     tx = ml.index("pelvis_tx")
-    # the cycle's forward displacement (average speed × cycle duration, summary.json)
+    # the cycle's duration and forward displacement (average speed × duration)
     with open(os.path.join(folder, "summary.json")) as f:
         outcomes = json.load(f)["outcomes"]
-    stride = outcomes["speed"] * outcomes["cycle_duration"]
+    period = outcomes["cycle_duration"]
+    stride = outcomes["speed"] * period
     motion = os.path.join(work, "motion.mot")
     write_storage(motion, mh, ml, tile(mrows, period, {tx: stride}))
     grf = os.path.join(work, "grf.mot")
@@ -113,14 +243,14 @@ def inverse_dynamics(folder, model_path, work):
         rows = list(csv.reader(f))
     names = [h.split(" [")[0] for h in rows[0]]
     ref = [[float(v) for v in r] for r in rows[1:]]
-    # samples at and next to each heel strike (a foot's vertical force rising through
-    # 20 N): the impact is faster than a spline through the samples can follow
+    # rows of joint_torques.csv at and next to each heel strike (a foot's vertical force
+    # rising through 20 N between two rows)
     impact = set()
-    n = len(grows)
+    n = len(ref)
     for side in "rl":
-        vy = [r[gl.index(f"{side}_ground_force_vy")] for r in grows]
+        vy = [value_at(grows, gl.index(f"{side}_ground_force_vy"), r[0]) for r in ref]
         for k in range(n):
-            if vy[k] >= 20.0 and vy[k - 1] < 20.0:
+            if vy[k] >= LOADED and vy[k - 1] < LOADED:
                 impact.update({(k - 1) % n, k, (k + 1) % n})
     result = {}
     for name in [f"{c}_{s}" for c in CHECKED for s in "rl"] + LUMBAR:
@@ -168,7 +298,8 @@ def main(folder):
     checks["controls_not_paths"] = missing[:5]
     traj = osim.MocoTrajectory(os.path.join(folder, "trajectory.sto"))
     checks["moco_trajectory"] = (traj.getNumStates() == states.getNumColumns()
-                                 and traj.getNumControls() == controls.getNumColumns())
+                                 and traj.getNumControls() == controls.getNumColumns()
+                                 and traj.getNumAccelerations() == model.getNumCoordinates())
     loads = osim.ExternalLoads(os.path.join(folder, "grf.xml"), True)
     checks["external_loads"] = loads.getSize() == 2
     with tempfile.TemporaryDirectory() as work:
@@ -178,11 +309,21 @@ def main(folder):
             idr = inverse_dynamics(folder, model_path, work)
         finally:
             os.chdir(cwd)
+    checks["inverse_dynamics_tool"] = idr
+    checks["inverse_dynamics_tool_worst"] = float(
+        max((v["fraction_of_range"] for v in idr.values()), default=math.inf))
+    idr = solver_inverse_dynamics(folder, model_path)
     checks["inverse_dynamics"] = idr
+    cop = center_of_pressure(folder, osim.Model(model_path))
+    checks["center_of_pressure"] = cop
+    checks["center_of_pressure_under_foot"] = all(
+        v["loaded_samples"] > 0 and v["max_distance_outside"] <= COP_TOLERANCE
+        for v in cop.values())
     worst = max((v["fraction_of_range"] for v in idr.values()), default=math.inf)
     checks["inverse_dynamics_worst"] = float(worst)
     ok = all(checks[k] for k in ["model_loads", "states_are_paths", "controls_are_paths",
-                                  "moco_trajectory", "external_loads"])
+                                  "moco_trajectory", "external_loads",
+                                  "center_of_pressure_under_foot"])
     checks["inverse_dynamics_within_tolerance"] = bool(worst <= TOLERANCE and len(idr) > 0)
     # one line, the last on stdout
     print(json.dumps(checks))

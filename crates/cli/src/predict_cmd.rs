@@ -271,10 +271,12 @@ pub(crate) fn parse_guesses(list: &[String]) -> anyhow::Result<Vec<GuessKind>> {
 /// folder, or a previous prediction result replaced with `force`. When the default folder
 /// holds a result (and no `force`), the next free numbered name is used and said on stderr;
 /// a given folder holding a result is an error. Stale staging folders beside it are removed.
+/// `quiet`: the note is not printed (the folder is named on stdout at the end).
 pub(crate) fn output_folder(
     given: Option<PathBuf>,
     default: PathBuf,
     force: bool,
+    quiet: bool,
 ) -> anyhow::Result<PathBuf> {
     let (out, is_default) = match given {
         Some(p) => (p, false),
@@ -285,11 +287,13 @@ pub(crate) fn output_folder(
         Existing::Own(_) if force => out,
         Existing::Own(_) if is_default => {
             let next = result_dir::next_free(&out, ResultKind::Prediction);
-            eprintln!(
-                "note: {} holds a previous result (--force replaces it); writing to {}",
-                out.display(),
-                next.display()
-            );
+            if !quiet {
+                eprintln!(
+                    "note: {} holds a previous result (--force replaces it); writing to {}",
+                    out.display(),
+                    next.display()
+                );
+            }
             next
         }
         Existing::Own(_) => return Err(OutputError::Occupied(out.display().to_string()).into()),
@@ -353,7 +357,12 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         "the guesses solved at once",
     )?;
     let default_out = PathBuf::from(format!("out/predict_{:.2}", settings.speed));
-    let out = output_folder(args.out.or(study.output), default_out, args.force)?;
+    let out = output_folder(
+        args.out.or(study.output),
+        default_out,
+        args.force,
+        args.quiet,
+    )?;
     let quiet = args.quiet;
     let board = crate::progress::ProgressBoard::new(&guesses, options.tol / 10.0);
     let progress = |src: predict::ProgressSource, r: &stride_solve::solver::IterationRecord| {

@@ -1,6 +1,8 @@
 //! Live progress of `stride predict`: one line per initial guess with the mesh being
 //! solved, its iteration, objective and infeasibilities, the time spent on that mesh and an
-//! estimate of the time left there.
+//! estimate of the time left there ([`time_left`]).
+
+mod time_left;
 
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
@@ -8,6 +10,7 @@ use std::time::{Duration, Instant};
 use stride_ocp::guess::GuessKind;
 use stride_ocp::predict::{MeshStage, ProgressSource};
 use stride_solve::solver::IterationRecord;
+use time_left::{seconds_left, MeshProgress, SolvedMesh};
 
 /// Least time between two redraws on a terminal.
 const REDRAW: Duration = Duration::from_millis(500);
@@ -18,8 +21,9 @@ const PLAIN_EVERY: Duration = Duration::from_secs(10);
 /// on a terminal, else a plain line per guess at each new mesh and every 10 s.
 pub struct ProgressBoard {
     guesses: Vec<GuessKind>,
-    /// Barrier parameter μ where a solve ends (the solver's floor): the time estimate
-    /// measures progress as the fraction of the way from the first μ to it, in log scale.
+    /// Barrier parameter μ where a solve ends (the solver's floor): without a coarse mesh
+    /// solved before, the time estimate measures progress as the fraction of the way from
+    /// the first μ to it, in log scale.
     mu_end: f64,
     tty: bool,
     state: Mutex<BoardState>,
@@ -28,7 +32,11 @@ pub struct ProgressBoard {
 struct BoardState {
     lines: Vec<String>,
     stage: Vec<Option<MeshStage>>,
-    mu_start: Vec<f64>,
+    /// Per guess: its current mesh's first record (μ, elapsed [s]) and last record.
+    first: Vec<(f64, f64)>,
+    last: Vec<Option<(usize, f64)>>,
+    /// Per guess: the coarse mesh it solved before the current one.
+    solved: Vec<Option<SolvedMesh>>,
     last_plain: Vec<Option<Instant>>,
     last_draw: Option<Instant>,
     drawn: bool,
@@ -48,7 +56,9 @@ impl ProgressBoard {
                     .map(|g| format!("{g:<22} starting"))
                     .collect(),
                 stage: vec![None; n],
-                mu_start: vec![f64::NAN; n],
+                first: vec![(f64::NAN, 0.0); n],
+                last: vec![None; n],
+                solved: vec![None; n],
                 last_plain: vec![None; n],
                 last_draw: None,
                 drawn: false,
@@ -62,12 +72,34 @@ impl ProgressBoard {
             return;
         };
         let mut st = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        let t = r.elapsed.as_secs_f64();
         let new_stage = st.stage[i] != Some(src.stage);
         if new_stage {
+            if let (Some(MeshStage::Coarse(n)), Some((iterations, end))) = (st.stage[i], st.last[i])
+            {
+                st.solved[i] = Some(SolvedMesh {
+                    intervals: n,
+                    iterations,
+                    seconds: end - st.first[i].1,
+                });
+            }
             st.stage[i] = Some(src.stage);
-            st.mu_start[i] = r.mu;
+            st.first[i] = (r.mu, t);
         }
-        st.lines[i] = self.line(src, r, st.mu_start[i]);
+        st.last[i] = Some((r.iter, t));
+        let (intervals, before) = match src.stage {
+            MeshStage::Coarse(n) => (n, None),
+            MeshStage::Final(n) => (n, st.solved[i].as_ref()),
+        };
+        let now = MeshProgress {
+            intervals,
+            iterations: r.iter,
+            seconds: t - st.first[i].1,
+            mu_start: st.first[i].0,
+            mu: r.mu,
+            mu_end: self.mu_end,
+        };
+        st.lines[i] = self.line(src, r, seconds_left(&now, before));
         if self.tty {
             let due = st.last_draw.is_none_or(|t| t.elapsed() >= REDRAW);
             if due || new_stage {
@@ -100,52 +132,20 @@ impl ProgressBoard {
         st.drawn = true;
     }
 
-    fn line(&self, src: ProgressSource, r: &IterationRecord, mu_start: f64) -> String {
+    fn line(&self, src: ProgressSource, r: &IterationRecord, left: Option<f64>) -> String {
         let stage = match src.stage {
             MeshStage::Coarse(n) => format!("coarse mesh ({n} intervals)"),
             MeshStage::Final(n) => format!("final mesh ({n} intervals)"),
         };
         let t = r.elapsed.as_secs_f64();
+        let left = left.map_or(String::new(), |s| format!(", ~{s:.0} s left on this mesh"));
         format!(
-            "{:<22} {stage:<28} iteration {:>4}  objective {:>11.4e}  constraint violation {:>8.1e}  optimality {:>8.1e}  {t:>6.1} s{}",
+            "{:<22} {stage:<28} iteration {:>4}  objective {:>11.4e}  constraint violation {:>8.1e}  optimality {:>8.1e}  {t:>6.1} s{left}",
             src.guess.to_string(),
             r.iter,
             r.objective,
             r.inf_pr,
             r.inf_du,
-            time_left(mu_start, r.mu, self.mu_end, t)
         )
-    }
-}
-
-/// The estimate of the time left in a solve after `elapsed` seconds, from how far the
-/// barrier parameter went from `mu_start` to `mu` on the way to `mu_end` (log scale):
-/// `, ~N s left on this mesh`, or a word when no estimate can be made.
-fn time_left(mu_start: f64, mu: f64, mu_end: f64, elapsed: f64) -> String {
-    let span = (mu_start / mu_end).ln();
-    let done = (mu_start / mu).ln() / span;
-    if !(span > 0.0 && done.is_finite()) || done < 0.05 {
-        return String::new();
-    }
-    if done >= 1.0 {
-        return ", converging".into();
-    }
-    let left = elapsed * (1.0 - done) / done;
-    format!(", ~{left:.0} s left on this mesh")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::time_left;
-
-    #[test]
-    fn the_time_left_follows_the_barrier_parameter_in_log_scale() {
-        // μ from 0.1 to 1e-9: at 1e-5, half way (in log scale): as much time again
-        assert_eq!(
-            time_left(0.1, 1e-5, 1e-9, 20.0),
-            ", ~20 s left on this mesh"
-        );
-        assert_eq!(time_left(0.1, 1e-9, 1e-9, 20.0), ", converging");
-        assert_eq!(time_left(0.1, 0.1, 1e-9, 1.0), "");
     }
 }

@@ -139,6 +139,7 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
         args.out.clone().or(file.output.clone()),
         PathBuf::from("out/track"),
         args.force,
+        args.quiet,
     )?;
     let tp = TrackingProblem::new(&model, &settings)?;
     let solver = backend("ipm")?;

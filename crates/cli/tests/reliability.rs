@@ -119,17 +119,30 @@ fn a_second_prediction_never_replaces_the_first_without_force() {
     // default folder: the second run takes the next free name and says so
     let first = stride_in(&d, &short_predict(None));
     assert_eq!(first.status.code(), Some(2), "{}", text(&first.stderr));
+    assert_eq!(text(&first.stderr), "", "--quiet printed on stderr");
     let base = d.join("out/predict_1.33");
     assert!(base.join("summary.json").is_file() && base.join(".stride-result").is_file());
     std::fs::write(base.join("solver_log_data-informed-walking.csv"), "first").unwrap();
+    // with --quiet nothing but errors on stderr: the folder is named on stdout
     let second = stride_in(&d, &short_predict(None));
+    assert_eq!(text(&second.stderr), "", "--quiet printed on stderr");
     assert!(
-        text(&second.stderr).contains("holds a previous result")
-            && text(&second.stderr).contains("predict_1.33-2"),
+        text(&second.stdout).contains("predict_1.33-2"),
         "{}",
-        text(&second.stderr)
+        text(&second.stdout)
     );
     assert!(d.join("out/predict_1.33-2/summary.json").is_file());
+    // without it, the new folder is said on stderr before solving
+    let mut loud = short_predict(None);
+    loud.retain(|a| a != "--quiet");
+    let third = stride_in(&d, &loud);
+    assert!(
+        text(&third.stderr).contains("holds a previous result")
+            && text(&third.stderr).contains("predict_1.33-3"),
+        "{}",
+        text(&third.stderr)
+    );
+    assert!(d.join("out/predict_1.33-3/summary.json").is_file());
     assert_eq!(
         std::fs::read_to_string(base.join("solver_log_data-informed-walking.csv")).unwrap(),
         "first"

@@ -1,7 +1,8 @@
 //! `stride view` in a real browser: a short prediction writes `view.html` by default, and
 //! the page opened from the file system in headless Chromium (software WebGL) renders a
-//! frame without any error, with the model's pixels on screen. Skipped, with the reason
-//! printed, where no Chromium is installed.
+//! frame without any error, with the model's pixels on screen; likewise the page of a tiny
+//! real study (two speeds), with both cases selectable and the study's figures. The
+//! browser checks are skipped, with the reason printed, where no Chromium is installed.
 
 mod common;
 use common::{rejects, stride};
@@ -66,6 +67,27 @@ fn pixels(path: &Path) -> (usize, usize, Vec<[u8; 3]>) {
     (info.width as usize, info.height as usize, px)
 }
 
+/// The DOM of the page at `url` after its first frame, checked: the page marks itself
+/// rendered (errors would mark it `error` and fill the otherwise hidden error box) and
+/// tried no network address.
+fn rendered_dom(browser: &Path, root: &Path, url: &str) -> String {
+    let (dom, log) = headless(browser, &root.join("profile-dom"), url, &["--dump-dom"]);
+    assert!(
+        dom.contains(r#"data-status="rendered""#),
+        "page not rendered:\n{}",
+        &dom[..dom.len().min(3000)]
+    );
+    assert!(
+        dom.contains(r#"<pre id="errors" hidden=""></pre>"#),
+        "errors shown: {dom:.3000}"
+    );
+    assert!(
+        !log.contains("net::ERR"),
+        "the page tried the network:\n{log}"
+    );
+    dom
+}
+
 #[test]
 fn predict_writes_a_page_that_renders_in_headless_chromium() {
     let root = std::env::temp_dir().join(format!("stride-view-cli-{}", std::process::id()));
@@ -85,6 +107,11 @@ fn predict_writes_a_page_that_renders_in_headless_chromium() {
     ]);
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{run:?}");
+    assert_eq!(
+        String::from_utf8_lossy(&run.stderr),
+        "",
+        "--quiet printed on stderr"
+    );
     let default_page = out.join("view.html");
     assert!(stdout.contains("viewer page"), "{stdout}");
     assert!(default_page.is_file(), "predict wrote no view.html");
@@ -107,27 +134,7 @@ fn predict_writes_a_page_that_renders_in_headless_chromium() {
         return;
     };
     let url = format!("file://{}", page.display());
-    // the page marks itself rendered after its first frame; errors would mark it `error`
-    // and fill the (otherwise hidden) error box
-    let (dom, log) = headless(
-        &browser,
-        &root.join("profile-dom"),
-        &format!("{url}#play=0&t=0.3"),
-        &["--dump-dom"],
-    );
-    assert!(
-        dom.contains(r#"data-status="rendered""#),
-        "page not rendered:\n{}",
-        &dom[..dom.len().min(3000)]
-    );
-    assert!(
-        dom.contains(r#"<pre id="errors" hidden=""></pre>"#),
-        "errors shown: {dom:.3000}"
-    );
-    assert!(
-        !log.contains("net::ERR"),
-        "the page tried the network:\n{log}"
-    );
+    rendered_dom(&browser, &root, &format!("{url}#play=0&t=0.3"));
     // a frame with the model and one without: not blank, and the model covers part of it
     let shot = |name: &str, hash: &str| {
         let png = root.join(name);
@@ -157,6 +164,74 @@ fn predict_writes_a_page_that_renders_in_headless_chromium() {
         share > 0.01,
         "the model covers {:.2} % of the frame",
         100.0 * share
+    );
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// A study of two converged cases (1.2 and 1.4 m/s, 10 intervals, one guess).
+const TINY_STUDY: &str = "[study]\nname = \"tiny\"\noutput = \"unused\"\njobs = 2\n\
+guesses = [\"data-informed-walking\"]\n[study.solver]\npresolve_mesh = 0\n\
+[base]\nmesh_intervals = 10\n[grid]\nspeed = [1.2, 1.4]\n";
+
+#[test]
+fn a_real_study_writes_a_page_with_every_case_that_renders_in_headless_chromium() {
+    let root = std::env::temp_dir().join(format!("stride-view-study-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(&root).unwrap();
+    let file = root.join("tiny.toml");
+    std::fs::write(&file, TINY_STUDY).unwrap();
+    let out = root.join("study");
+    let run = stride(&[
+        "study",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(run.status.success(), "{run:?}");
+    let page = out.join("view.html");
+    assert!(page.is_file(), "study wrote no view.html");
+    let html = std::fs::read_to_string(&page).unwrap();
+    let cases = ["speed_1.2__diw", "speed_1.4__diw"];
+    for c in cases {
+        assert!(html.contains(c), "the page lacks case {c}");
+    }
+    assert!(
+        html.contains("figure_speed_series_0"),
+        "the page lacks the speed figure"
+    );
+    let Some(browser) = browser() else {
+        eprintln!("skipping the browser check: no chromium on the PATH (apt-get install chromium)");
+        let _ = std::fs::remove_dir_all(&root);
+        return;
+    };
+    let url = format!("file://{}", page.display());
+    let dom = rendered_dom(&browser, &root, &format!("{url}#play=0&t=0.3&case=1"));
+    // both cases in the selector, the second one shown, the figures listed
+    for (i, c) in cases.iter().enumerate() {
+        assert!(
+            dom.contains(&format!(r#"<option value="{i}">{c}</option>"#)),
+            "no option for {c}"
+        );
+    }
+    assert!(
+        dom.contains(&format!(r#"id="case-title">{}</"#, cases[1])),
+        "case 1 not shown"
+    );
+    assert!(dom.contains("figure-list") && dom.contains("<figure"));
+    let png = root.join("study.png");
+    headless(
+        &browser,
+        &root.join("profile-shot"),
+        &format!("{url}#play=0&t=0.3&view=side&case=1"),
+        &[&format!("--screenshot={}", png.display())],
+    );
+    let (_, _, px) = pixels(&png);
+    let distinct: std::collections::HashSet<[u8; 3]> = px.iter().copied().collect();
+    assert!(
+        distinct.len() > 100,
+        "{} colours: a blank frame",
+        distinct.len()
     );
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -160,14 +160,17 @@ impl CycleTables {
 
 /// Speed and mesh of a prediction as figure titles state them.
 fn caption(s: &crate::settings::ProblemSettings) -> String {
+    format!("{:.2} m/s, {}", s.speed, mesh_caption(s))
+}
+
+/// The mesh of a prediction as figure captions state it (`50 mesh intervals per half
+/// cycle`).
+pub fn mesh_caption(s: &crate::settings::ProblemSettings) -> String {
     let per = match s.cycle {
         crate::settings::CycleKind::HalfSymmetric => "per half cycle",
         crate::settings::CycleKind::FullPeriodic => "per cycle",
     };
-    format!(
-        "{:.2} m/s, {} mesh intervals {per}",
-        s.speed, s.mesh_intervals
-    )
+    format!("{} mesh intervals {per}", s.mesh_intervals)
 }
 
 /// Why the figures could not be produced.

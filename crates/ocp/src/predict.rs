@@ -134,6 +134,8 @@ pub struct Summary {
     pub outcomes: Option<Outcomes>,
     /// The settings solved.
     pub settings: ProblemSettings,
+    /// Body mass of the model [kg] (what the per-kilogram quantities are divided by).
+    pub body_mass: f64,
     /// Number of NLP variables and constraints.
     pub nlp_size: [usize; 2],
     /// Unit of every physical quantity in this file, by key.
@@ -644,6 +646,7 @@ pub fn write_results_into(
         solver_options: options.clone(),
         outcomes,
         settings: problem.settings.clone(),
+        body_mass: problem.body_mass,
         nlp_size: [problem.layout.len(), 0],
         units: crate::outputs::summary_units(),
     };
@@ -697,6 +700,7 @@ pub fn rewrite_results(
         crate::outputs::write_cycle(problem, &node, &cycle, &tmp)?;
         summary["outcomes"] =
             serde_json::to_value(&outcomes).map_err(|e| write_err(&summary_path, e))?;
+        summary["body_mass"] = serde_json::json!(problem.body_mass);
         summary["units"] = serde_json::to_value(crate::outputs::summary_units())
             .map_err(|e| write_err(&summary_path, e))?;
         let p = tmp.join("summary.json");

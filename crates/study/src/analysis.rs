@@ -9,6 +9,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 use stride_model::storage::write_atomic;
+use stride_ocp::settings::ProblemSettings;
 
 /// Gait type from the phase of the centre-of-mass energies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -257,6 +258,20 @@ pub struct Report {
     pub speed_series: Vec<SpeedSeries>,
     /// Conditions against the reference case (filled by [`report_folder`]).
     pub conditions: Option<crate::conditions::ConditionTable>,
+    /// The mesh of the cases as figure captions state it.
+    pub mesh: String,
+}
+
+/// The distinct meshes of `settings` as figure captions state them, joined by `; `.
+pub fn mesh_caption<'a>(settings: impl Iterator<Item = &'a ProblemSettings>) -> String {
+    let mut meshes: Vec<String> = Vec::new();
+    for s in settings {
+        let m = stride_ocp::figures::mesh_caption(s);
+        if !meshes.contains(&m) {
+            meshes.push(m);
+        }
+    }
+    meshes.join("; ")
 }
 
 /// Build the report from cases and their records.
@@ -338,6 +353,7 @@ pub fn build_report(name: &str, cases: &[Case], records: &[Option<CaseRecord>]) 
         selected,
         speed_series,
         conditions: None,
+        mesh: mesh_caption(cases.iter().map(|c| &c.settings)),
     }
 }
 
@@ -465,7 +481,7 @@ pub fn write_report(folder: &Path, report: &Report) -> Result<(), StoreError> {
         let p = folder.join(format!("speed_series_{i}.csv"));
         write_atomic(&p, s.as_bytes()).map_err(|e| io_err(&p, e))?;
     }
-    crate::figures::write_speed_figures(folder, &report.speed_series)?;
+    crate::figures::write_speed_figures(folder, &report.speed_series, &report.mesh)?;
     if let Some(t) = &report.conditions {
         crate::conditions::write_conditions(folder, t, &report.study)?;
     }

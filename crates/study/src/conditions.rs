@@ -9,10 +9,12 @@ use crate::analysis::Selected;
 use crate::spec::Study;
 use crate::store::{io_err, StoreError};
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 use stride_model::storage::write_atomic;
 use stride_ocp::measures::{ConditionMeasures, LegMeasures};
+use stride_ocp::settings::ProblemSettings;
 use stride_plot::{Color, Figure, LegendEntry, Panel, Series};
 
 /// One selected case of the comparison.
@@ -24,6 +26,10 @@ pub struct ConditionRow {
     pub case: String,
     /// Whether this is the reference (settings equal to `[base]`).
     pub reference: bool,
+    /// Grid axis values of the case (axis name → value as the study file gives it).
+    pub axes: BTreeMap<String, String>,
+    /// Body mass of the model [kg] (`None` for summaries written before it was recorded).
+    pub body_mass: Option<f64>,
     /// Cost of transport [J kg⁻¹ m⁻¹].
     pub cost_of_transport: Option<f64>,
     /// Stride length [m].
@@ -41,6 +47,8 @@ pub struct ConditionTable {
     pub reference: Option<String>,
     /// Selected cases in study order.
     pub rows: Vec<ConditionRow>,
+    /// Speed and mesh of the compared cases as the figure's title states them.
+    pub caption: String,
 }
 
 /// Step width and condition measures of a case folder's `summary.json` (`None` when the file
@@ -59,6 +67,13 @@ fn read_summary(dir: &Path) -> (Option<f64>, Option<ConditionMeasures>) {
         .get("trunk_sway")
         .and_then(|_| serde_json::from_value::<ConditionMeasures>(o.clone()).ok());
     (step_width, measures)
+}
+
+/// Body mass [kg] of a case folder's `summary.json` (`None` when missing or older).
+fn read_body_mass(dir: &Path) -> Option<f64> {
+    let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    v.get("body_mass")?.as_f64()
 }
 
 /// Recomputes the condition measures of a case folder (from its solution) when it can.
@@ -92,6 +107,8 @@ pub fn condition_table(
                 group: s.group.clone(),
                 case: s.case.clone(),
                 reference: is_reference(s),
+                axes: s.axes.clone(),
+                body_mass: read_body_mass(&dir),
                 cost_of_transport: s.cost_of_transport,
                 stride_length: s.stride_length,
                 step_width,
@@ -99,10 +116,33 @@ pub fn condition_table(
             }
         })
         .collect();
+    let settings: Vec<&ProblemSettings> = selected
+        .iter()
+        .filter_map(|s| study.cases.iter().find(|c| c.name == s.case))
+        .map(|c| &c.settings)
+        .collect();
     ConditionTable {
         reference: rows.iter().find(|r| r.reference).map(|r| r.group.clone()),
         rows,
+        caption: caption(&settings),
     }
+}
+
+/// Speeds and meshes of the cases compared, as the figure's title states them: `1.33 m/s,
+/// 50 mesh intervals per half cycle`, or the range of speeds when they differ.
+fn caption(settings: &[&ProblemSettings]) -> String {
+    let speeds = settings.iter().map(|s| s.speed);
+    let lo = speeds.clone().fold(f64::INFINITY, f64::min);
+    let hi = speeds.fold(f64::NEG_INFINITY, f64::max);
+    let speed = if !lo.is_finite() {
+        return String::new();
+    } else if hi - lo < 1e-9 {
+        format!("{lo:.2} m/s")
+    } else {
+        format!("{lo:.2}–{hi:.2} m/s")
+    };
+    let mesh = crate::analysis::mesh_caption(settings.iter().copied());
+    format!("{speed}, {mesh}")
 }
 
 /// Names and accessors of the per-leg columns.
@@ -210,52 +250,130 @@ pub fn conditions_text(t: &ConditionTable) -> Vec<String> {
         .collect()
 }
 
-/// Panels of the condition figure: (title, table file, column, unit).
-const FIGURE_PANELS: [(&str, &str, &str, &str); 8] = [
-    (
+/// A panel of the condition figure: a column of a case table over the gait cycle, drawn
+/// with the sign conventions and units of a prediction's own figures.
+struct FigurePanel {
+    title: &'static str,
+    /// Table file of the case folder.
+    file: &'static str,
+    /// Column (without its unit).
+    column: &'static str,
+    /// y-axis label: the sign convention and the unit.
+    unit: &'static str,
+    /// Factor from the coordinate's sign to the drawn one (−1: knee flexion positive).
+    sign: f64,
+    /// Whether the column is divided by the body mass (torques [N m] → [N m/kg]).
+    per_kg: bool,
+}
+
+const fn angle(title: &'static str, column: &'static str, unit: &'static str) -> FigurePanel {
+    FigurePanel {
+        title,
+        file: "joint_angles.csv",
+        column,
+        unit,
+        sign: 1.0,
+        per_kg: false,
+    }
+}
+
+const fn torque(title: &'static str, column: &'static str, unit: &'static str) -> FigurePanel {
+    FigurePanel {
+        title,
+        file: "joint_torques.csv",
+        column,
+        unit,
+        sign: 1.0,
+        per_kg: true,
+    }
+}
+
+const fn flipped(p: FigurePanel) -> FigurePanel {
+    FigurePanel { sign: -1.0, ..p }
+}
+
+const FIGURE_PANELS: [FigurePanel; 8] = [
+    angle(
         "Hip adduction (right)",
-        "joint_angles.csv",
         "hip_adduction_r",
-        "angle [deg]",
+        "adduction + [deg]",
     ),
-    (
-        "Knee angle (right)",
-        "joint_angles.csv",
+    flipped(angle(
+        "Knee flexion (right)",
         "knee_angle_r",
-        "angle [deg]",
-    ),
-    (
+        "flexion + [deg]",
+    )),
+    angle(
         "Ankle angle (right)",
-        "joint_angles.csv",
         "ankle_angle_r",
-        "angle [deg]",
+        "dorsiflexion + [deg]",
     ),
-    ("Trunk sway", "trunk_sway.csv", "trunk_sway", "angle [deg]"),
-    (
+    FigurePanel {
+        title: "Trunk sway",
+        file: "trunk_sway.csv",
+        column: "trunk_sway",
+        unit: "angle [deg]",
+        sign: 1.0,
+        per_kg: false,
+    },
+    torque(
         "Hip adduction torque (right)",
-        "joint_torques.csv",
         "hip_adduction_r",
-        "torque [N m]",
+        "adduction + [N m/kg]",
     ),
-    (
+    flipped(torque(
         "Knee torque (right)",
-        "joint_torques.csv",
         "knee_angle_r",
-        "torque [N m]",
-    ),
-    (
+        "flexion + [N m/kg]",
+    )),
+    torque(
         "Ankle torque (right)",
-        "joint_torques.csv",
         "ankle_angle_r",
-        "torque [N m]",
+        "dorsiflexion + [N m/kg]",
     ),
-    (
+    torque(
         "Ankle torque (left)",
-        "joint_torques.csv",
         "ankle_angle_l",
-        "torque [N m]",
+        "dorsiflexion + [N m/kg]",
     ),
 ];
+
+/// Legend label of a case: the values of the grid axes that vary between the compared
+/// cases (`varying`), speeds in m/s and conditions by name; the group name when none varies.
+fn legend_label(row: &ConditionRow, varying: &[&str]) -> String {
+    let parts: Vec<String> = varying
+        .iter()
+        .filter_map(|&k| {
+            let v = row.axes.get(k)?;
+            Some(match k {
+                "speed" => format!("{v} m/s"),
+                "condition" => v.clone(),
+                _ => format!("{k} = {v}"),
+            })
+        })
+        .collect();
+    if parts.is_empty() {
+        row.group.clone()
+    } else {
+        parts.join(", ")
+    }
+}
+
+/// The grid axes whose values differ between the rows of `t`, in axis order.
+fn varying_axes(t: &ConditionTable) -> Vec<&str> {
+    let mut keys: Vec<&str> = t
+        .rows
+        .iter()
+        .flat_map(|r| r.axes.keys().map(String::as_str))
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    keys.retain(|k| {
+        let first = t.rows.first().and_then(|r| r.axes.get(*k));
+        t.rows.iter().any(|r| r.axes.get(*k) != first)
+    });
+    keys
+}
 
 /// Line colours of the compared cases (the reference is drawn black and wider).
 /// Beyond its length the colours repeat dashed.
@@ -272,15 +390,17 @@ const PALETTE: [Color; 10] = [
     Color::rgb(120, 120, 0),
 ];
 
-/// Figure of angles and torques over the gait cycle, one line per selected case (`None`
-/// when no case has tables; one case alone, e.g. the prosthesis, still shows its right and left
-/// ankle torques).
+/// Figure of angles and torques over the gait cycle, one line per selected case named by
+/// what varies between the cases (`None` when no case has tables; one case alone, e.g. the
+/// prosthesis, still shows its right and left ankle torques). A case without its body mass
+/// (summaries that predate it) has no torque lines.
 pub fn conditions_figure(t: &ConditionTable, folder: &Path, title: &str) -> Option<Figure> {
     let mut fig = Figure::new(1600, 800, 2, 4).title(title.to_string());
     let mut panels: Vec<Panel> = FIGURE_PANELS
         .iter()
-        .map(|(name, _, _, unit)| Panel::new(*name, "gait cycle [%]", *unit))
+        .map(|p| Panel::new(p.title, "gait cycle [%]", p.unit))
         .collect();
+    let varying = varying_axes(t);
     let mut drawn = 0;
     let mut colour = 0;
     for r in &t.rows {
@@ -293,14 +413,20 @@ pub fn conditions_figure(t: &ConditionTable, folder: &Path, title: &str) -> Opti
             (PALETTE[k % PALETTE.len()], 1.5, k >= PALETTE.len())
         };
         let mut any = false;
-        for (panel, (_, file, column, _)) in panels.iter_mut().zip(FIGURE_PANELS) {
-            if let Some((x, y)) = crate::figures::cycle_column(&dir.join(file), column) {
+        for (panel, spec) in panels.iter_mut().zip(&FIGURE_PANELS) {
+            let factor = match (spec.per_kg, r.body_mass) {
+                (false, _) => spec.sign,
+                (true, Some(m)) if m > 0.0 => spec.sign / m,
+                (true, _) => continue,
+            };
+            if let Some((x, y)) = crate::figures::cycle_column(&dir.join(spec.file), spec.column) {
+                let y = y.into_iter().map(|v| factor * v).collect();
                 let mut s = Series::new(x, y, c).width(w);
                 if dashed {
                     s = s.dash(vec![6.0, 3.0]);
                 }
                 if !any {
-                    fig = fig.legend_entry(LegendEntry::for_series(&s, &r.group));
+                    fig = fig.legend_entry(LegendEntry::for_series(&s, &legend_label(r, &varying)));
                 }
                 *panel = panel.clone().line(s);
                 any = true;
@@ -318,10 +444,13 @@ pub fn conditions_figure(t: &ConditionTable, folder: &Path, title: &str) -> Opti
 pub fn write_conditions(folder: &Path, t: &ConditionTable, study: &str) -> Result<(), StoreError> {
     let p = folder.join("conditions.csv");
     write_atomic(&p, conditions_csv(t).as_bytes()).map_err(|e| io_err(&p, e))?;
-    let title = match &t.reference {
+    let mut title = match &t.reference {
         Some(r) => format!("{study}: conditions against {r}"),
         None => format!("{study}: conditions"),
     };
+    if !t.caption.is_empty() {
+        title.push_str(&format!(" ({})", t.caption));
+    }
     if let Some(fig) = conditions_figure(t, folder, &title) {
         crate::figures::write_figure(&folder.join("figure_conditions"), &fig)?;
     }
@@ -368,6 +497,7 @@ strength = [{ group = "hip", scale = 0.5 }]
         let dir = root.join("cases").join(case);
         std::fs::create_dir_all(&dir).unwrap();
         let summary = serde_json::json!({
+            "body_mass": 62.5,
             "outcomes": {
                 "cost_of_transport": 0.0,
                 "step_width": 0.08 + sway / 1000.0,
@@ -387,7 +517,12 @@ strength = [{ group = "hip", scale = 0.5 }]
         .unwrap();
         std::fs::write(
             dir.join("joint_angles.csv"),
-            format!("time,knee_angle_r\n{rows}"),
+            format!("time [s],knee_angle_r [deg]\n{rows}"),
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("joint_torques.csv"),
+            format!("time [s],knee_angle_r [N m]\n{rows}"),
         )
         .unwrap();
     }
@@ -399,7 +534,10 @@ strength = [{ group = "hip", scale = 0.5 }]
         let root = std::env::temp_dir().join(format!("stride-conditions-{}", std::process::id()));
         write_case(&root, names[0], 4.0, 20.0);
         write_case(&root, names[1], 6.5, 26.0);
-        let sel = vec![selected(names[0], 3.9), selected(names[1], 4.3)];
+        let mut sel = vec![selected(names[0], 3.9), selected(names[1], 4.3)];
+        for (s, c) in sel.iter_mut().zip(&study.cases) {
+            s.axes = c.axes.clone();
+        }
         let t = condition_table(&study, &sel, &root, None);
         assert_eq!(t.reference.as_deref(), Some(sel[0].group.as_str()));
         assert!(t.rows[0].reference && !t.rows[1].reference);
@@ -424,6 +562,20 @@ strength = [{ group = "hip", scale = 0.5 }]
         let fig = conditions_figure(&t, &root, "t").unwrap();
         let sway = fig.panels.iter().find(|p| p.title == "Trunk sway").unwrap();
         assert_eq!(sway.series.len(), 2, "one trunk sway line per case");
+        // legends name what varies (here the condition), the title the speed and mesh
+        let legend: Vec<&str> = fig.legend.iter().map(|e| e.label.as_str()).collect();
+        assert_eq!(legend, ["nominal", "weak"]);
+        assert_eq!(t.caption, "1.33 m/s, 10 mesh intervals per half cycle");
+        assert!(svg.contains("(1.33 m/s, 10 mesh intervals per half cycle)"));
+        // the units and signs of a prediction's figures: knee flexion positive, torques
+        // per kilogram of body mass (62.5 kg in the summaries)
+        let panel = |title: &str| fig.panels.iter().find(|p| p.title == title).unwrap();
+        let knee = panel("Knee flexion (right)");
+        assert_eq!(knee.y.label, "flexion + [deg]");
+        assert!((knee.series[1].y[2] - 26.0 * 2.0 / 4.0).abs() < 1e-12);
+        let torque = panel("Knee torque (right)");
+        assert_eq!(torque.y.label, "flexion + [N m/kg]");
+        assert!((torque.series[1].y[2] - 13.0 / 62.5).abs() < 1e-12);
         // Alone, the base case is no reference (nothing to compare with).
         let alone = condition_table(&study, &sel[..1], &root, None);
         assert_eq!(alone.reference, None);

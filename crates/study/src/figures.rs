@@ -166,14 +166,20 @@ pub fn speed_series_figure(s: &SpeedSeries, title: &str, folder: Option<&Path>) 
     })
 }
 
-/// Write `figure_speed_series_<i>.svg` and `.png` for every series of a report.
-pub fn write_speed_figures(folder: &Path, series: &[SpeedSeries]) -> Result<(), StoreError> {
+/// Write `figure_speed_series_<i>.svg` and `.png` for every series of a report; `mesh`:
+/// the cases' mesh as the caption states it.
+pub fn write_speed_figures(
+    folder: &Path,
+    series: &[SpeedSeries],
+    mesh: &str,
+) -> Result<(), StoreError> {
     for (i, s) in series.iter().enumerate() {
-        let key: Vec<String> = s.key.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-        let title = if key.is_empty() {
+        let mut caption: Vec<String> = s.key.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+        caption.extend((!mesh.is_empty()).then(|| mesh.to_string()));
+        let title = if caption.is_empty() {
             "Speed dependence".to_string()
         } else {
-            format!("Speed dependence ({})", key.join(", "))
+            format!("Speed dependence ({})", caption.join(", "))
         };
         let Some(fig) = speed_series_figure(s, &title, Some(folder)) else {
             continue;
@@ -241,6 +247,16 @@ mod tests {
         }
         let fig = speed_series_figure(&s, "t", Some(&root)).unwrap();
         assert_eq!(fig.panels.len(), 3);
+        // the legend names the speeds, the title the mesh
+        let labels: Vec<_> = fig.panels[2]
+            .series
+            .iter()
+            .filter_map(|l| l.label.as_deref())
+            .collect();
+        assert_eq!(labels, ["1.00 m/s", "2.00 m/s"]);
+        write_speed_figures(&root, &[s], "10 mesh intervals per half cycle").unwrap();
+        let svg = std::fs::read_to_string(root.join("figure_speed_series_0.svg")).unwrap();
+        assert!(svg.contains("Speed dependence (10 mesh intervals per half cycle)"));
         assert_eq!(speed_colour(1.0, 1.0, 2.0), Color::rgb(0, 90, 181));
         assert_eq!(speed_colour(2.0, 1.0, 2.0), Color::rgb(200, 30, 45));
         std::fs::remove_dir_all(&root).unwrap();

@@ -2,7 +2,8 @@
 // three.js (the global THREE, embedded before this script). Ground frame as in OpenSim:
 // x forward, y up, z to the right; metres, newtons, seconds.
 // Page options after `#` in the address: play=0 (start paused), t=0.25 (start at this
-// fraction of the cycle), model=0 (hide the model: an empty stage), view=side|front|top|oblique.
+// fraction of the cycle), model=0 (hide the model: an empty stage), view=side|front|top|oblique,
+// case=i (the study case shown first, 0-based).
 (function () {
   'use strict';
   var data = JSON.parse(document.getElementById('stride-data').textContent);
@@ -595,7 +596,9 @@
   buildFigures();
   setPlaying(playing);
   resize();
-  setCase(0);
+  var firstCase = Math.min(Math.max(parseInt(params.get('case'), 10) || 0, 0), cases.length - 1);
+  if (cases.length > 1) $('cases').value = String(firstCase);
+  setCase(firstCase);
   setView(activeView);
   frame();
   if (document.documentElement.getAttribute('data-status') !== 'error') {

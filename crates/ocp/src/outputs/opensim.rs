@@ -25,7 +25,8 @@ pub const GRF_XML_FILE: &str = "grf.xml";
 pub const STATES_FILE: &str = "states.sto";
 /// Muscle excitations and arm actuator controls (OpenSim actuator paths).
 pub const CONTROLS_FILE: &str = "controls.sto";
-/// States and controls in one file with the header of a Moco trajectory.
+/// States, controls and coordinate accelerations (Moco derivatives) in one file with the
+/// header of a Moco trajectory.
 pub const TRAJECTORY_FILE: &str = "trajectory.sto";
 
 /// Contact groups written to `grf.mot`: column prefix and the foot body the loads act on.
@@ -220,6 +221,31 @@ fn states(problem: &GaitProblem, cycle: &Trajectory, samples: &[SampleOutputs]) 
     Table { labels, rows }
 }
 
+/// Acceleration columns (Moco's derivative names, `/jointset/<joint>/<coordinate>/accel`)
+/// of every model coordinate [rad s⁻² or m s⁻²] at every cycle sample: the accelerations
+/// the solution's dynamics hold at that point (zero for coordinates the problem does not
+/// move), so that inverse dynamics need not differentiate the motion.
+fn accelerations(problem: &GaitProblem, cycle: &Trajectory) -> Table {
+    let model = &problem.model;
+    let labels = model
+        .coordinates
+        .iter()
+        .map(|c| format!("/jointset/{}/{}/accel", model.joints[c.joint].name, c.name))
+        .collect();
+    let rows = cycle
+        .qdd
+        .iter()
+        .map(|qdd| {
+            let mut a = vec![0.0; model.coordinates.len()];
+            for (i, gc) in problem.gait.coordinates.iter().enumerate() {
+                a[gc.model_index] = qdd[i];
+            }
+            a
+        })
+        .collect();
+    Table { labels, rows }
+}
+
 /// Control columns (OpenSim actuator paths) and their values at every cycle sample: muscle
 /// excitations, then the arm actuators' controls — their activations, which times the
 /// optimal force give the simulated torque.
@@ -257,8 +283,9 @@ struct Table {
     rows: Vec<Vec<f64>>,
 }
 
-/// Write `states.sto`, `controls.sto` and `trajectory.sto` (both, with the header keys of a
-/// Moco trajectory) over the gait cycle, angles in radians.
+/// Write `states.sto`, `controls.sto` and `trajectory.sto` (both, and the coordinate
+/// accelerations as Moco derivatives, with the header keys of a Moco trajectory) over the
+/// gait cycle, angles in radians.
 pub(super) fn write_states_and_controls(
     problem: &GaitProblem,
     cycle: &Trajectory,
@@ -271,14 +298,16 @@ pub(super) fn write_states_and_controls(
     write_storage("states", Some(false), l, r, &[], dir, STATES_FILE)?;
     let (l, r) = with_time(&cycle.time, &[&ct]);
     write_storage("controls", Some(false), l, r, &[], dir, CONTROLS_FILE)?;
-    let (l, r) = with_time(&cycle.time, &[&st, &ct]);
+    let at = accelerations(problem, cycle);
+    let (l, r) = with_time(&cycle.time, &[&st, &ct, &at]);
     let (ns, nc) = (st.labels.len().to_string(), ct.labels.len().to_string());
+    let nd = at.labels.len().to_string();
     let moco = [
         ("num_states", ns.as_str()),
         ("num_controls", nc.as_str()),
         ("num_input_controls", "0"),
         ("num_multipliers", "0"),
-        ("num_derivatives", "0"),
+        ("num_derivatives", nd.as_str()),
         ("num_slacks", "0"),
         ("num_parameters", "0"),
     ];

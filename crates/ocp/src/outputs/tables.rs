@@ -95,6 +95,7 @@ pub(super) fn write_tables(t: &CycleTables, dir: &Path) -> Result<(), PredictErr
 /// numbers and counts), recorded there as the `units` table.
 pub fn summary_units() -> BTreeMap<&'static str, &'static str> {
     [
+        ("body_mass", "kg"),
         ("cost_of_transport", "J kg^-1 m^-1"),
         ("cost_of_transport_cost_model", "J kg^-1 m^-1"),
         ("stride_length", "m"),
