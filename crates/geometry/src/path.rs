@@ -13,6 +13,7 @@ use crate::error::GeometryError;
 use crate::function::PreparedFunction;
 use crate::kinematics::{BodyPoses, Kinematics, Vec3};
 use crate::wrap::{wrapped_length, Node, Origin, PreparedPathWrap, PreparedWrapObject};
+use crate::wrap_ellipsoid::WrapMethod;
 use stride_ad::{Dual, Scalar};
 use stride_model::{CoordId, Model, PathPointKind};
 
@@ -82,14 +83,21 @@ impl MusclePaths {
                 if let Some(kind) = objects[w.object].unsupported() {
                     return Err(GeometryError::Model {
                         what: format!(
-                            "muscle {} wraps over {kind} `{}`: wrapping over {kind} is not implemented (WrapCylinder and WrapSphere are)",
+                            "muscle {} wraps over {kind} `{}`: wrapping over {kind} is not implemented (WrapCylinder, WrapSphere and WrapEllipsoid are)",
                             m.name, o.name
                         ),
                     });
                 }
+                let method = WrapMethod::parse(&w.method).ok_or_else(|| GeometryError::Model {
+                    what: format!(
+                        "muscle {} wrap over `{}`: method `{}` is not one of hybrid, midpoint, axial",
+                        m.name, o.name, w.method
+                    ),
+                })?;
                 ws.push(PreparedPathWrap {
                     object: w.object,
                     range: w.range,
+                    method,
                 });
             }
             wraps.push(ws);
