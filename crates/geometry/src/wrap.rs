@@ -86,6 +86,7 @@ impl PreparedWrapObject {
             }
             WrapShape::Sphere { radius } => wrap_sphere(a, b, radius, self.quadrant),
             WrapShape::Ellipsoid { radii } => {
+                // Tangent points fixed on the ellipsoid: OpenSim's moment arms.
                 let (a, b) = (values(a), values(b));
                 wrap_ellipsoid(&a, &b, radii, self.quadrant, method).to_constant()
             }

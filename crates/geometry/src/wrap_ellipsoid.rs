@@ -7,11 +7,17 @@
 //! crosses the coordinate plane most normal to it with the average of the closest-point
 //! directions along it, `midpoint` takes the closest point to the middle of the chord,
 //! `axial` the first alone), flipped to the active half with a quadrant. In that plane
-//! the tangent points from each end are found (the polar plane of the end point meets
-//! the ellipse on `c1`'s side) and the surface path is OpenSim's polyline along the
-//! ellipse (rays from a point of the plane on a coordinate axis, one chord per
-//! millimetre of the tangent points' distance, at most 499). Decisions are taken on
-//! primal values; the geometry is generic over the scalar.
+//! the tangent points from each end are found by OpenSim's damped search from `c1` (which
+//! of the two tangent points it reaches depends on that search, so it is reproduced step
+//! by step), and the surface path is OpenSim's polyline along the ellipse (rays from a
+//! point of the plane on a coordinate axis, one chord per millimetre of the tangent
+//! points' distance, at most 499).
+//!
+//! The path over an ellipsoid is not the shortest one, and OpenSim's moment arms are not
+//! the derivatives of its length: they hold the tangent points fixed on the ellipsoid.
+//! [`crate::wrap`] therefore evaluates this wrap on primal values and carries its tangent
+//! points and surface length as constants in the wrap frame, which gives OpenSim's
+//! moment arms. Decisions are taken on primal values.
 //!
 //! All computations run in coordinates scaled by `3 / (a + b + c)` as OpenSim's do.
 
@@ -89,12 +95,12 @@ pub(crate) fn wrap_ellipsoid<T: Scalar>(
     let t1 = if e1.abs() < 1e-4 {
         p1
     } else {
-        tangent_point(&p1, &vs, vs4, a, plane.start[0])
+        tangent_point(values(&p1), values(&vs), vs4.value(), a, plane.start[0]).map(T::cst)
     };
     let t2 = if e2.abs() < 1e-4 {
         p2
     } else {
-        tangent_point(&p2, &vs, vs4, a, plane.start[1])
+        tangent_point(values(&p2), values(&vs), vs4.value(), a, plane.start[1]).map(T::cst)
     };
     let mut arc = ellipse_arc(&t1, &t2, &vs, vs4, a, factor, false);
     if quadrant.is_some() {
@@ -213,7 +219,7 @@ fn flip_to_quadrant<T: Scalar>(c1: Vec3<T>, axis: usize, weight: T, a: [f64; 3])
         weight
     };
     if weight.value() > 0.0 {
-        c1[axis] = c1[axis] * weight.rsub(1.0);
+        c1[axis] *= weight.rsub(1.0);
         c1 = closest_on_ellipsoid(a, &c1, None);
     }
     PlanePoint { c1, start }
@@ -276,46 +282,124 @@ fn fan_direction<T: Scalar>(r1: &Vec3<T>, chord: &Vec3<T>, a: [f64; 3]) -> Vec3<
     unit(&sum)
 }
 
-/// The tangent point from `p` to the ellipse cut by the plane `vs · x + vs4 = 0` (`vs`
-/// unit): where the polar plane of `p` meets that ellipse, the one nearer `start`.
-fn tangent_point<T: Scalar>(
-    p: &Vec3<T>,
-    vs: &Vec3<T>,
-    vs4: T,
-    a: [f64; 3],
-    start: [f64; 3],
-) -> Vec3<T> {
-    let n: Vec3<T> = std::array::from_fn(|k| p[k] / (a[k] * a[k]));
-    let d = cross(vs, &n);
-    let (k, nn) = (dot(vs, &n), dot(&n, &n));
-    let det = nn - k * k;
-    let alpha = (-vs4 * nn - k) / det;
-    let beta = (vs4 * k + 1.0) / det;
-    let x0 = add(&scale(vs, alpha), &scale(&n, beta));
-    let (mut qa, mut qb, mut qc) = (T::zero(), T::zero(), T::cst(-1.0));
-    for j in 0..3 {
-        let w = 1.0 / (a[j] * a[j]);
-        qa += d[j] * d[j] * w;
-        qb += x0[j] * d[j] * (2.0 * w);
-        qc += x0[j] * x0[j] * w;
-    }
-    let disc = qb * qb - qa * qc * 4.0;
-    let root = if disc.value() > 0.0 {
-        disc.sqrt()
-    } else {
-        T::zero()
+/// Convergence threshold of the tangent-point search on the squared residuals.
+const TANGENT_TOLERANCE: f64 = 1e-8;
+
+/// The tangent point from `p` to the ellipse cut by the plane `vs · x + vs4 = 0`, found
+/// by OpenSim's damped Gauss–Newton search from `start` (`calcTangentPoint`): on the
+/// surface, in the plane, with `p` in the tangent plane.
+fn tangent_point(p: [f64; 3], vs: [f64; 3], vs4: f64, a: [f64; 3], start: [f64; 3]) -> [f64; 3] {
+    let inv2 = a.map(|x| 1.0 / (x * x));
+    let residuals = |r: &[f64; 3], d1: f64| {
+        let nr: [f64; 3] = std::array::from_fn(|k| 2.0 * r[k] * inv2[k]);
+        [
+            dot_f(&vs, r) + vs4,
+            (0..3).map(|k| r[k] * r[k] * inv2[k]).sum::<f64>() - 1.0,
+            dot_f(&nr, r) + d1,
+            dot_f(&nr, &p) + d1,
+        ]
     };
-    let x1 = add(&x0, &scale(&d, (-qb + root) / (qa * 2.0)));
-    let x2 = add(&x0, &scale(&d, (-qb - root) / (qa * 2.0)));
-    let dist2 = |x: &Vec3<T>| {
-        let v = sub(&values(x), &start);
-        dot_f(&v, &v)
-    };
-    if dist2(&x1) <= dist2(&x2) {
-        x1
-    } else {
-        x2
+    let ssq_of = |e: &[f64; 4]| e.iter().map(|x| x * x).sum::<f64>();
+    let mut r = start;
+    let mut d1 = -(0..3).map(|k| 2.0 * r[k] * inv2[k] * r[k]).sum::<f64>();
+    let mut ssq = ssq_of(&residuals(&r, d1));
+    let mut ssqo = ssq;
+    let mut alpha = 0.01;
+    let pm = unit(&p);
+    for _ in 0..50 {
+        if ssq <= TANGENT_TOLERANCE {
+            break;
+        }
+        let e = residuals(&r, d1);
+        // Rows: unknowns (r, d1); columns: residuals.
+        let mut jt = [[0.0; 4]; 4];
+        for i in 0..3 {
+            jt[i] = [
+                vs[i],
+                2.0 * r[i] * inv2[i],
+                4.0 * r[i] * inv2[i],
+                2.0 * p[i] * inv2[i],
+            ];
+        }
+        jt[3] = [0.0, 0.0, 1.0, 1.0];
+        let pcos = dot_f(&unit(&sub(&p, &r)), &pm);
+        let dd = if pcos > 0.1 {
+            1.0 - pcos.powi(100)
+        } else {
+            1.0
+        };
+        let v: [f64; 4] = std::array::from_fn(|i| -(0..4).map(|j| jt[i][j] * e[j]).sum::<f64>());
+        let mut h = [[0.0; 4]; 4];
+        for i in 0..4 {
+            for j in 0..4 {
+                h[i][j] = (0..4).map(|k| jt[i][k] * jt[j][k]).sum();
+            }
+        }
+        let diag: [f64; 4] = std::array::from_fn(|i| h[i][i]);
+        let mut step = [0.0; 4];
+        // Damped steps, accumulated, until the residual decreases.
+        for _ in 0..1000 {
+            if ssq < ssqo {
+                break;
+            }
+            for i in 0..4 {
+                h[i][i] = diag[i] * (1.0 + alpha);
+            }
+            step = solve4(h, v).map(|x| dd * x / 16.0);
+            apply(&mut r, &mut d1, &step, 1.0);
+            ssqo = ssq;
+            ssq = ssq_of(&residuals(&r, d1));
+            alpha *= 4.0;
+        }
+        alpha /= 8.0;
+        // Then doubled steps while the residual keeps decreasing, less the last one.
+        let mut fakt = 0.5;
+        for _ in 0..1000 {
+            if ssq > ssqo {
+                break;
+            }
+            fakt *= 2.0;
+            apply(&mut r, &mut d1, &step, fakt);
+            ssqo = ssq;
+            ssq = ssq_of(&residuals(&r, d1));
+        }
+        apply(&mut r, &mut d1, &step, -fakt);
+        ssq = ssq_of(&residuals(&r, d1));
+        ssqo = ssq;
     }
+    r
+}
+
+/// Adds `f · step` to the unknowns `(r, d1)`.
+fn apply(r: &mut [f64; 3], d1: &mut f64, step: &[f64; 4], f: f64) {
+    for k in 0..3 {
+        r[k] += step[k] * f;
+    }
+    *d1 += step[3] * f;
+}
+
+/// Solves the 4 × 4 system `h x = v` by Gaussian elimination with partial pivoting.
+fn solve4(mut h: [[f64; 4]; 4], mut v: [f64; 4]) -> [f64; 4] {
+    for c in 0..4 {
+        let piv = (c..4)
+            .max_by(|&i, &j| h[i][c].abs().total_cmp(&h[j][c].abs()))
+            .unwrap_or(c);
+        h.swap(c, piv);
+        v.swap(c, piv);
+        for i in c + 1..4 {
+            let f = h[i][c] / h[c][c];
+            let pivot_row = h[c];
+            for (hij, hcj) in h[i].iter_mut().zip(pivot_row).skip(c) {
+                *hij -= f * hcj;
+            }
+            v[i] -= f * v[c];
+        }
+    }
+    let mut x = [0.0; 4];
+    for c in (0..4).rev() {
+        x[c] = (v[c] - (c + 1..4).map(|j| h[c][j] * x[j]).sum::<f64>()) / h[c][c];
+    }
+    x
 }
 
 /// OpenSim's surface polyline between two tangent points: its length (scaled units) and
