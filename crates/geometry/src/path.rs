@@ -15,7 +15,7 @@ use crate::kinematics::{BodyPoses, Kinematics, Vec3};
 use crate::wrap::{wrapped_length, Node, Origin, PreparedPathWrap, PreparedWrapObject};
 use crate::wrap_ellipsoid::WrapMethod;
 use stride_ad::{Dual, Scalar};
-use stride_model::{CoordId, Model, PathPointKind};
+use stride_model::{CoordId, Model, PathPoint, PathPointKind, PathWrap};
 
 /// Central finite-difference step of the checking moment arms [rad or m]: the truncation error
 /// (≈ h² l‴/6 ≈ 1e-13 m) and the round-off (≈ 1e-16 · l / h ≈ 1e-10 m) are both far
@@ -41,8 +41,8 @@ struct PreparedPoint {
     kind: PointLocation,
 }
 
-/// The path points and wraps of every muscle of a model, with spline coefficients and
-/// wrap frames precomputed.
+/// The path points and wraps of every muscle (or every ligament) of a model, with spline
+/// coefficients and wrap frames precomputed.
 #[derive(Clone, Debug)]
 pub struct MusclePaths {
     paths: Vec<Vec<PreparedPoint>>,
@@ -55,51 +55,45 @@ impl MusclePaths {
     /// missing body or driven by a missing coordinate, and on a wrap over a missing or
     /// unsupported wrap object.
     pub fn new(model: &Model) -> Result<Self, GeometryError> {
+        let items = model
+            .muscles
+            .iter()
+            .map(|m| (format!("muscle {}", m.name), &m.path[..], &m.wraps[..]));
+        Self::prepare(model, items)
+    }
+
+    /// Prepares the paths of all ligaments of `model` (index = ligament index), with the
+    /// same checks as [`MusclePaths::new`]: a ligament's length is evaluated exactly as a
+    /// muscle's.
+    pub fn ligaments(model: &Model) -> Result<Self, GeometryError> {
+        let items = model
+            .ligaments
+            .iter()
+            .map(|l| (format!("ligament {}", l.name), &l.path[..], &l.wraps[..]));
+        Self::prepare(model, items)
+    }
+
+    /// Prepares the named paths `items` (points, wraps) of `model`.
+    fn prepare<'a>(
+        model: &Model,
+        items: impl Iterator<Item = (String, &'a [PathPoint], &'a [PathWrap])>,
+    ) -> Result<Self, GeometryError> {
         let objects = model
             .wrap_objects
             .iter()
             .map(|o| PreparedWrapObject::new(o, model.bodies.len()))
             .collect::<Result<Vec<_>, _>>()?;
-        let mut paths = Vec::with_capacity(model.muscles.len());
-        let mut wraps = Vec::with_capacity(model.muscles.len());
-        for m in &model.muscles {
-            let pts = m
-                .path
+        let (mut paths, mut wraps) = (Vec::new(), Vec::new());
+        for (name, points, path_wraps) in items {
+            let pts = points
                 .iter()
-                .map(|p| prepare_point(model, &m.name, p))
+                .map(|p| prepare_point(model, &name, p))
                 .collect::<Result<Vec<_>, _>>()?;
             paths.push(pts);
-            let mut ws = Vec::with_capacity(m.wraps.len());
-            for w in &m.wraps {
-                let o = model
-                    .wrap_objects
-                    .get(w.object)
-                    .ok_or_else(|| GeometryError::Model {
-                        what: format!(
-                            "muscle {}: wrap object index {} out of range",
-                            m.name, w.object
-                        ),
-                    })?;
-                if let Some(kind) = objects[w.object].unsupported() {
-                    return Err(GeometryError::Model {
-                        what: format!(
-                            "muscle {} wraps over {kind} `{}`: wrapping over {kind} is not implemented (WrapCylinder, WrapSphere and WrapEllipsoid are)",
-                            m.name, o.name
-                        ),
-                    });
-                }
-                let method = WrapMethod::parse(&w.method).ok_or_else(|| GeometryError::Model {
-                    what: format!(
-                        "muscle {} wrap over `{}`: method `{}` is not one of hybrid, midpoint, axial",
-                        m.name, o.name, w.method
-                    ),
-                })?;
-                ws.push(PreparedPathWrap {
-                    object: w.object,
-                    range: w.range,
-                    method,
-                });
-            }
+            let ws = path_wraps
+                .iter()
+                .map(|w| prepare_wrap(model, &objects, &name, w))
+                .collect::<Result<Vec<_>, _>>()?;
             wraps.push(ws);
         }
         Ok(Self {
@@ -176,15 +170,49 @@ impl MusclePaths {
     }
 }
 
-/// Checks and prepares one path point of muscle `muscle`.
+/// Checks and prepares one wrap of the path `owner` ("muscle NAME", "ligament NAME").
+fn prepare_wrap(
+    model: &Model,
+    objects: &[PreparedWrapObject],
+    owner: &str,
+    w: &PathWrap,
+) -> Result<PreparedPathWrap, GeometryError> {
+    let o = model
+        .wrap_objects
+        .get(w.object)
+        .ok_or_else(|| GeometryError::Model {
+            what: format!("{owner}: wrap object index {} out of range", w.object),
+        })?;
+    if let Some(kind) = objects[w.object].unsupported() {
+        return Err(GeometryError::Model {
+            what: format!(
+                "{owner} wraps over {kind} `{}`: wrapping over {kind} is not implemented (WrapCylinder, WrapSphere and WrapEllipsoid are)",
+                o.name
+            ),
+        });
+    }
+    let method = WrapMethod::parse(&w.method).ok_or_else(|| GeometryError::Model {
+        what: format!(
+            "{owner} wrap over `{}`: method `{}` is not one of hybrid, midpoint, axial",
+            o.name, w.method
+        ),
+    })?;
+    Ok(PreparedPathWrap {
+        object: w.object,
+        range: w.range,
+        method,
+    })
+}
+
+/// Checks and prepares one path point of the path `owner` ("muscle NAME", …).
 fn prepare_point(
     model: &Model,
-    muscle: &str,
-    p: &stride_model::PathPoint,
+    owner: &str,
+    p: &PathPoint,
 ) -> Result<PreparedPoint, GeometryError> {
     let nc = model.coordinates.len();
     let bad = |what: &str| GeometryError::Model {
-        what: format!("muscle {muscle} path point {}: {what}", p.name),
+        what: format!("{owner} path point {}: {what}", p.name),
     };
     if p.body >= model.bodies.len() {
         return Err(bad("body index out of range"));
