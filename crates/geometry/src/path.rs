@@ -103,6 +103,31 @@ impl MusclePaths {
         })
     }
 
+    /// Whether the length of path `m` can change with coordinate `c`, from the structure
+    /// alone (`moved`, `n_joints`: [`Kinematics::moved_by`] of `c`): false when no body
+    /// carrying a point or a wrap object of the path moves, or all of them move as one
+    /// rigid body, and no moving point reads `c`. A `false` means the moment arm is
+    /// exactly zero.
+    pub fn depends_on(&self, m: usize, c: CoordId, moved: &[bool], n_joints: usize) -> bool {
+        let points = &self.paths[m];
+        let reads = points.iter().any(|p| match &p.kind {
+            PointLocation::Moving(components) => {
+                components.iter().flatten().any(|(ci, _)| *ci == c)
+            }
+            _ => false,
+        });
+        let bodies = points
+            .iter()
+            .map(|p| p.body)
+            .chain(self.wraps[m].iter().map(|w| self.objects[w.object].body()));
+        let (mut any, mut all) = (false, true);
+        for b in bodies {
+            any |= moved[b];
+            all &= moved[b];
+        }
+        reads || (any && !(all && n_joints == 1))
+    }
+
     /// Number of muscles.
     pub fn len(&self) -> usize {
         self.paths.len()
@@ -290,6 +315,8 @@ pub struct PathGeometry {
     pub fd_step: f64,
     poses: BodyPoses<f64>,
     dual_poses: BodyPoses<Dual>,
+    /// `depends[c][m]`: [`MusclePaths::depends_on`] of every coordinate and muscle.
+    depends: Vec<Vec<bool>>,
     q_work: Vec<f64>,
     q_dual: Vec<Dual>,
     plus: Vec<f64>,
@@ -302,7 +329,16 @@ impl PathGeometry {
         let kinematics = Kinematics::new(model)?;
         let paths = MusclePaths::new(model)?;
         let n = model.muscles.len();
+        let depends = (0..kinematics.n_coords())
+            .map(|c| {
+                let (moved, n_joints) = kinematics.moved_by(c);
+                (0..n)
+                    .map(|m| paths.depends_on(m, c, &moved, n_joints))
+                    .collect()
+            })
+            .collect();
         Ok(Self {
+            depends,
             poses: BodyPoses::new(kinematics.n_bodies()),
             dual_poses: BodyPoses::new(kinematics.n_bodies()),
             q_work: vec![0.0; kinematics.n_coords()],
@@ -324,14 +360,24 @@ impl PathGeometry {
     }
 
     /// Moment arms `r = −∂l/∂q_c` [m] of all muscles about coordinate `c` at `q`, exact
-    /// (forward-mode dual numbers along `q_c`), into `out`.
+    /// (forward-mode dual numbers along `q_c`), into `out`. Muscles whose length cannot
+    /// depend on `q_c` ([`MusclePaths::depends_on`]) get an exact 0 without evaluation.
     pub fn moment_arms(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
+        let depends = &self.depends[c];
+        if !depends.iter().any(|d| *d) {
+            out.fill(0.0);
+            return;
+        }
         for (i, (d, v)) in self.q_dual.iter_mut().zip(q).enumerate() {
             *d = Dual::new(*v, if i == c { 1.0 } else { 0.0 });
         }
         self.kinematics.forward(&self.q_dual, &mut self.dual_poses);
         for (m, o) in out.iter_mut().enumerate() {
-            *o = -self.paths.length(m, &self.q_dual, &self.dual_poses).eps;
+            *o = if depends[m] {
+                -self.paths.length(m, &self.q_dual, &self.dual_poses).eps
+            } else {
+                0.0
+            };
         }
     }
 

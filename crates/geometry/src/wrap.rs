@@ -53,6 +53,11 @@ impl PreparedWrapObject {
         })
     }
 
+    /// Index of the body carrying the wrap object.
+    pub(crate) fn body(&self) -> usize {
+        self.body
+    }
+
     /// OpenSim class of a shape this module cannot wrap over, if it is one.
     pub(crate) fn unsupported(&self) -> Option<&'static str> {
         match self.shape {
