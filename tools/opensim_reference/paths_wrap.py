@@ -11,6 +11,7 @@ in the format of `paths.py`. Run from the repository root:
 
 import math
 import os
+import sys
 
 import numpy as np
 import opensim as osim
@@ -36,7 +37,7 @@ def wrap(cls, name, body, translation, rotation, quadrant, **dims):
     return w
 
 
-def muscle(model, name, points, wraps):
+def muscle(model, name, points, wraps, method=None):
     m = osim.Thelen2003Muscle(name, 1000.0, 0.1, 0.2, 0.0)
     for k, (body, loc) in enumerate(points):
         m.addNewPathPoint(f"{name}_p{k + 1}", body, V(*loc))
@@ -45,12 +46,15 @@ def muscle(model, name, points, wraps):
         pw = m.updGeometryPath().updWrapSet().get(m.getGeometryPath().getWrapSet().getSize() - 1)
         pw.set_range(0, rng[0])
         pw.set_range(1, rng[1])
+        if method is not None:
+            pw.setMethod(method)
     model.addForce(m)
 
 
-def build():
+def skeleton(name):
+    """Ground, a welded base, `link` on the pin `q_swing` and `arm` on the pin `q_tilt`."""
     model = osim.Model()
-    model.setName("wrap_model")
+    model.setName(name)
     ground = model.getGround()
     base = osim.Body("base", 1.0, V(0, 0, 0), osim.Inertia(0.01, 0.01, 0.01))
     link = osim.Body("link", 1.0, V(0, 0, 0), osim.Inertia(0.01, 0.01, 0.01))
@@ -71,6 +75,11 @@ def build():
         c.setRangeMax(hi)
     j1.updCoordinate().setName("q_swing")
     j2.updCoordinate().setName("q_tilt")
+    return model, ground, arm
+
+
+def build():
+    model, ground, arm = skeleton("wrap_model")
     cyl = wrap("WrapCylinder", "cyl", ground, (0, 0, 0), (0, 0, 0), "all", radius=0.04, length=0.3)
     cyl_ny = wrap("WrapCylinder", "cyl_ny", ground, (0, 0, 0.01), (0.2, 0, 0), "-y", radius=0.04, length=0.3)
     cyl_px = wrap("WrapCylinder", "cyl_px", arm, (0.1, 0, 0), (0, 0.3, 0.1), "+x", radius=0.03, length=0.12)
@@ -99,47 +108,54 @@ def build():
     return model
 
 
-def main():
+def write_reference(model, tag, seed=7, n_poses=500, every=5):
+    """Writes `model` as `<tag>.osim` and its reference CSVs (run from the repository root)."""
     out = os.path.abspath("crates/geometry/tests/data")
     os.makedirs(os.path.join(out, "opensim_paths"), exist_ok=True)
+    cwd = os.getcwd()
     os.chdir("/tmp")
-    osim.Logger.setLevelString("error")
-    model = build()
     model.initSystem()
-    path = os.path.join(out, "wrap_model.osim")
+    path = os.path.join(out, f"{tag}.osim")
     model.printToXML(path)
     model = osim.Model(path)
     state = model.initSystem()
     cs = model.getCoordinateSet()
     coords = [cs.get(i) for i in range(cs.getSize())]
-    rng = np.random.default_rng(7)
-    poses = [[float(f"{rng.uniform(c.getRangeMin(), c.getRangeMax()):.6g}") for c in coords] for _ in range(500)]
+    rng = np.random.default_rng(seed)
+    poses = [[float(f"{rng.uniform(c.getRangeMin(), c.getRangeMax()):.6g}") for c in coords] for _ in range(n_poses)]
     ms = model.getMuscles()
     muscles = [ms.get(i) for i in range(ms.getSize())]
-    head = f"# OpenSim {osim.__version__}, wrap_model.osim (tools/opensim_reference/paths_wrap.py)\n"
+    script = os.path.basename(sys.argv[0])
+    head = f"# OpenSim {osim.__version__}, {tag}.osim (tools/opensim_reference/{script})\n"
     d = os.path.join(out, "opensim_paths")
-    with open(os.path.join(d, "wrap_model_poses.csv"), "w") as f:
+    with open(os.path.join(d, f"{tag}_poses.csv"), "w") as f:
         f.write(head + "# coordinate values [rad or m], one pose per row\n")
         f.write(",".join(c.getName() for c in coords) + "\n")
         for q in poses:
             f.write(",".join(f"{v:.6g}" for v in q) + "\n")
-    lf = open(os.path.join(d, "wrap_model_lengths.csv"), "w")
-    af = open(os.path.join(d, "wrap_model_moment_arms.csv"), "w")
+    lf = open(os.path.join(d, f"{tag}_lengths.csv"), "w")
+    af = open(os.path.join(d, f"{tag}_moment_arms.csv"), "w")
     lf.write(head + "# muscle-tendon length [mm] (muscle.getLength), one pose per row\n")
     lf.write(",".join(m.getName() for m in muscles) + "\n")
-    af.write(head + "# moment arm [mm] (muscle.computeMomentArm) of every pair, every fifth pose\n")
+    af.write(head + f"# moment arm [mm] (muscle.computeMomentArm) of every pair, every {every}th pose\n")
     af.write("pose," + ",".join(f"{m.getName()}:{c.getName()}" for m in muscles for c in coords) + "\n")
     for k, q in enumerate(poses):
         for c, v in zip(coords, q):
             c.setValue(state, v, False)
         model.realizePosition(state)
         lf.write(",".join(f"{m.getLength(state) * 1e3:.4f}" for m in muscles) + "\n")
-        if k % 5 == 0:
+        if k % every == 0:
             arms = [m.computeMomentArm(state, c) * 1e3 for m in muscles for c in coords]
             af.write(f"{k}," + ",".join(f"{v:.4f}" for v in arms) + "\n")
     lf.close()
     af.close()
-    print(f"wrap_model: {len(poses)} poses, {len(muscles)} muscles")
+    os.chdir(cwd)
+    print(f"{tag}: {len(poses)} poses, {len(muscles)} muscles")
+
+
+def main():
+    osim.Logger.setLevelString("error")
+    write_reference(build(), "wrap_model")
 
 
 if __name__ == "__main__":

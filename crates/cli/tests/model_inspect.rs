@@ -1,6 +1,7 @@
 //! `stride model inspect` on bad models: a contact sphere on a missing frame, a coordinate
-//! coupler naming a missing coordinate and an unknown joint class are each one error line
-//! with the file, the line and the element's name, and a non-zero exit.
+//! coupler naming a missing coordinate, an unknown joint class, a wrap object of an
+//! unknown class and a path point on a missing body are each one error line with the
+//! file, the line and the element's name, and a non-zero exit.
 
 mod common;
 
@@ -116,5 +117,55 @@ fn unknown_joint_class() {
         &model(&joint, ""),
         "<EllipsoidJoint",
         "EllipsoidJoint",
+    );
+}
+
+#[test]
+fn wrap_object_of_an_unknown_class() {
+    let text = model(PIN, "").replace(
+        r#"<Ground name="ground" />"#,
+        r#"<Ground name="ground">
+      <WrapObjectSet>
+        <objects>
+          <WrapCone name="cone">
+            <radius>0.1</radius>
+          </WrapCone>
+        </objects>
+      </WrapObjectSet>
+    </Ground>"#,
+    );
+    check("wrap.osim", &text, "<WrapCone", "`cone`");
+}
+
+#[test]
+fn path_point_on_a_missing_body() {
+    let extra = r#"    <ForceSet>
+      <objects>
+        <Thelen2003Muscle name="m1">
+          <GeometryPath name="geometrypath">
+            <PathPointSet>
+              <objects>
+                <PathPoint name="origin">
+                  <socket_parent_frame>/ground</socket_parent_frame>
+                  <location>0 0 0</location>
+                </PathPoint>
+                <PathPoint name="insertion">
+                  <socket_parent_frame>/bodyset/nowhere</socket_parent_frame>
+                  <location>0 0.1 0</location>
+                </PathPoint>
+              </objects>
+            </PathPointSet>
+          </GeometryPath>
+          <max_isometric_force>100</max_isometric_force>
+          <optimal_fiber_length>0.1</optimal_fiber_length>
+          <tendon_slack_length>0.2</tendon_slack_length>
+        </Thelen2003Muscle>
+      </objects>
+    </ForceSet>"#;
+    check(
+        "point.osim",
+        &model(PIN, extra),
+        "/bodyset/nowhere",
+        "PathPoint[name=insertion]",
     );
 }

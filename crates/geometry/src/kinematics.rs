@@ -153,6 +153,24 @@ impl Kinematics {
         self.n_coords
     }
 
+    /// Which bodies move (relative to ground) when coordinate `c` changes, and the number
+    /// of joints whose transform reads `c`. With one such joint, the moved bodies are
+    /// that joint's subtree and move together as one rigid body.
+    pub fn moved_by(&self, c: CoordId) -> (Vec<bool>, usize) {
+        let mut moved = vec![false; self.n_bodies];
+        let mut n_joints = 0;
+        for j in &self.joints {
+            let reads = j
+                .rotations
+                .iter()
+                .chain(&j.translations)
+                .any(|ax| ax.coordinate == Some(c));
+            n_joints += usize::from(reads);
+            moved[j.child] = reads || moved[j.parent];
+        }
+        (moved, n_joints)
+    }
+
     /// Computes the pose of every body for coordinates `q` (model order, rad or m).
     pub fn forward<T: Scalar>(&self, q: &[T], poses: &mut BodyPoses<T>) {
         poses.rotation[0] = identity();

@@ -4,14 +4,15 @@
 //! - [`basis`]: the monomial basis and its coefficient order (4.2).
 //! - [`fit`]: stacked length + moment-arm least squares and order selection (4.4).
 //! - [`function`], [`kinematics`], [`path`], [`wrap`]: path geometry (length, moment
-//!   arms, lengthening speed) with OpenSim's path points and wrapping over cylinders and
-//!   spheres, generic over the scalar.
+//!   arms, lengthening speed) with OpenSim's path points and wrapping over cylinders,
+//!   spheres and ellipsoids, generic over the scalar.
 //! - [`samples`]: fitting poses from a motion file or drawn at random.
 //! - [`model_fit`]: fitting every muscle of a model and the accuracy report.
 //! - [`geometry_file`]: the fitted-geometry file and its per-model-content cache.
 
 mod atan;
 pub mod basis;
+mod ellipsoid_closest;
 pub mod error;
 pub mod fit;
 pub mod function;
@@ -22,7 +23,9 @@ pub mod model_fit;
 pub mod path;
 pub mod poly;
 pub mod samples;
+mod vec3;
 pub mod wrap;
+mod wrap_ellipsoid;
 mod wrap_shapes;
 
 pub use basis::{basis_size, MonomialBasis};

@@ -13,8 +13,9 @@ use crate::error::GeometryError;
 use crate::function::PreparedFunction;
 use crate::kinematics::{BodyPoses, Kinematics, Vec3};
 use crate::wrap::{wrapped_length, Node, Origin, PreparedPathWrap, PreparedWrapObject};
+use crate::wrap_ellipsoid::WrapMethod;
 use stride_ad::{Dual, Scalar};
-use stride_model::{CoordId, Model, PathPointKind};
+use stride_model::{CoordId, Model, PathPoint, PathPointKind, PathWrap};
 
 /// Central finite-difference step of the checking moment arms [rad or m]: the truncation error
 /// (≈ h² l‴/6 ≈ 1e-13 m) and the round-off (≈ 1e-16 · l / h ≈ 1e-10 m) are both far
@@ -40,8 +41,8 @@ struct PreparedPoint {
     kind: PointLocation,
 }
 
-/// The path points and wraps of every muscle of a model, with spline coefficients and
-/// wrap frames precomputed.
+/// The path points and wraps of every muscle (or every ligament) of a model, with spline
+/// coefficients and wrap frames precomputed.
 #[derive(Clone, Debug)]
 pub struct MusclePaths {
     paths: Vec<Vec<PreparedPoint>>,
@@ -54,44 +55,45 @@ impl MusclePaths {
     /// missing body or driven by a missing coordinate, and on a wrap over a missing or
     /// unsupported wrap object.
     pub fn new(model: &Model) -> Result<Self, GeometryError> {
+        let items = model
+            .muscles
+            .iter()
+            .map(|m| (format!("muscle {}", m.name), &m.path[..], &m.wraps[..]));
+        Self::prepare(model, items)
+    }
+
+    /// Prepares the paths of all ligaments of `model` (index = ligament index), with the
+    /// same checks as [`MusclePaths::new`]: a ligament's length is evaluated exactly as a
+    /// muscle's.
+    pub fn ligaments(model: &Model) -> Result<Self, GeometryError> {
+        let items = model
+            .ligaments
+            .iter()
+            .map(|l| (format!("ligament {}", l.name), &l.path[..], &l.wraps[..]));
+        Self::prepare(model, items)
+    }
+
+    /// Prepares the named paths `items` (points, wraps) of `model`.
+    fn prepare<'a>(
+        model: &Model,
+        items: impl Iterator<Item = (String, &'a [PathPoint], &'a [PathWrap])>,
+    ) -> Result<Self, GeometryError> {
         let objects = model
             .wrap_objects
             .iter()
             .map(|o| PreparedWrapObject::new(o, model.bodies.len()))
             .collect::<Result<Vec<_>, _>>()?;
-        let mut paths = Vec::with_capacity(model.muscles.len());
-        let mut wraps = Vec::with_capacity(model.muscles.len());
-        for m in &model.muscles {
-            let pts = m
-                .path
+        let (mut paths, mut wraps) = (Vec::new(), Vec::new());
+        for (name, points, path_wraps) in items {
+            let pts = points
                 .iter()
-                .map(|p| prepare_point(model, &m.name, p))
+                .map(|p| prepare_point(model, &name, p))
                 .collect::<Result<Vec<_>, _>>()?;
             paths.push(pts);
-            let mut ws = Vec::with_capacity(m.wraps.len());
-            for w in &m.wraps {
-                let o = model
-                    .wrap_objects
-                    .get(w.object)
-                    .ok_or_else(|| GeometryError::Model {
-                        what: format!(
-                            "muscle {}: wrap object index {} out of range",
-                            m.name, w.object
-                        ),
-                    })?;
-                if let Some(kind) = objects[w.object].unsupported() {
-                    return Err(GeometryError::Model {
-                        what: format!(
-                            "muscle {} wraps over {kind} `{}`: wrapping over {kind} is not implemented (WrapCylinder and WrapSphere are)",
-                            m.name, o.name
-                        ),
-                    });
-                }
-                ws.push(PreparedPathWrap {
-                    object: w.object,
-                    range: w.range,
-                });
-            }
+            let ws = path_wraps
+                .iter()
+                .map(|w| prepare_wrap(model, &objects, &name, w))
+                .collect::<Result<Vec<_>, _>>()?;
             wraps.push(ws);
         }
         Ok(Self {
@@ -99,6 +101,31 @@ impl MusclePaths {
             wraps,
             objects,
         })
+    }
+
+    /// Whether the length of path `m` can change with coordinate `c`, from the structure
+    /// alone (`moved`, `n_joints`: [`Kinematics::moved_by`] of `c`): false when no body
+    /// carrying a point or a wrap object of the path moves, or all of them move as one
+    /// rigid body, and no moving point reads `c`. A `false` means the moment arm is
+    /// exactly zero.
+    pub fn depends_on(&self, m: usize, c: CoordId, moved: &[bool], n_joints: usize) -> bool {
+        let points = &self.paths[m];
+        let reads = points.iter().any(|p| match &p.kind {
+            PointLocation::Moving(components) => {
+                components.iter().flatten().any(|(ci, _)| *ci == c)
+            }
+            _ => false,
+        });
+        let bodies = points
+            .iter()
+            .map(|p| p.body)
+            .chain(self.wraps[m].iter().map(|w| self.objects[w.object].body()));
+        let (mut any, mut all) = (false, true);
+        for b in bodies {
+            any |= moved[b];
+            all &= moved[b];
+        }
+        reads || (any && !(all && n_joints == 1))
     }
 
     /// Number of muscles.
@@ -168,15 +195,49 @@ impl MusclePaths {
     }
 }
 
-/// Checks and prepares one path point of muscle `muscle`.
+/// Checks and prepares one wrap of the path `owner` ("muscle NAME", "ligament NAME").
+fn prepare_wrap(
+    model: &Model,
+    objects: &[PreparedWrapObject],
+    owner: &str,
+    w: &PathWrap,
+) -> Result<PreparedPathWrap, GeometryError> {
+    let o = model
+        .wrap_objects
+        .get(w.object)
+        .ok_or_else(|| GeometryError::Model {
+            what: format!("{owner}: wrap object index {} out of range", w.object),
+        })?;
+    if let Some(kind) = objects[w.object].unsupported() {
+        return Err(GeometryError::Model {
+            what: format!(
+                "{owner} wraps over {kind} `{}`: wrapping over {kind} is not implemented (WrapCylinder, WrapSphere and WrapEllipsoid are)",
+                o.name
+            ),
+        });
+    }
+    let method = WrapMethod::parse(&w.method).ok_or_else(|| GeometryError::Model {
+        what: format!(
+            "{owner} wrap over `{}`: method `{}` is not one of hybrid, midpoint, axial",
+            o.name, w.method
+        ),
+    })?;
+    Ok(PreparedPathWrap {
+        object: w.object,
+        range: w.range,
+        method,
+    })
+}
+
+/// Checks and prepares one path point of the path `owner` ("muscle NAME", …).
 fn prepare_point(
     model: &Model,
-    muscle: &str,
-    p: &stride_model::PathPoint,
+    owner: &str,
+    p: &PathPoint,
 ) -> Result<PreparedPoint, GeometryError> {
     let nc = model.coordinates.len();
     let bad = |what: &str| GeometryError::Model {
-        what: format!("muscle {muscle} path point {}: {what}", p.name),
+        what: format!("{owner} path point {}: {what}", p.name),
     };
     if p.body >= model.bodies.len() {
         return Err(bad("body index out of range"));
@@ -254,6 +315,8 @@ pub struct PathGeometry {
     pub fd_step: f64,
     poses: BodyPoses<f64>,
     dual_poses: BodyPoses<Dual>,
+    /// `depends[c][m]`: [`MusclePaths::depends_on`] of every coordinate and muscle.
+    depends: Vec<Vec<bool>>,
     q_work: Vec<f64>,
     q_dual: Vec<Dual>,
     plus: Vec<f64>,
@@ -266,7 +329,16 @@ impl PathGeometry {
         let kinematics = Kinematics::new(model)?;
         let paths = MusclePaths::new(model)?;
         let n = model.muscles.len();
+        let depends = (0..kinematics.n_coords())
+            .map(|c| {
+                let (moved, n_joints) = kinematics.moved_by(c);
+                (0..n)
+                    .map(|m| paths.depends_on(m, c, &moved, n_joints))
+                    .collect()
+            })
+            .collect();
         Ok(Self {
+            depends,
             poses: BodyPoses::new(kinematics.n_bodies()),
             dual_poses: BodyPoses::new(kinematics.n_bodies()),
             q_work: vec![0.0; kinematics.n_coords()],
@@ -288,14 +360,24 @@ impl PathGeometry {
     }
 
     /// Moment arms `r = −∂l/∂q_c` [m] of all muscles about coordinate `c` at `q`, exact
-    /// (forward-mode dual numbers along `q_c`), into `out`.
+    /// (forward-mode dual numbers along `q_c`), into `out`. Muscles whose length cannot
+    /// depend on `q_c` ([`MusclePaths::depends_on`]) get an exact 0 without evaluation.
     pub fn moment_arms(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
+        let depends = &self.depends[c];
+        if !depends.iter().any(|d| *d) {
+            out.fill(0.0);
+            return;
+        }
         for (i, (d, v)) in self.q_dual.iter_mut().zip(q).enumerate() {
             *d = Dual::new(*v, if i == c { 1.0 } else { 0.0 });
         }
         self.kinematics.forward(&self.q_dual, &mut self.dual_poses);
         for (m, o) in out.iter_mut().enumerate() {
-            *o = -self.paths.length(m, &self.q_dual, &self.dual_poses).eps;
+            *o = if depends[m] {
+                -self.paths.length(m, &self.q_dual, &self.dual_poses).eps
+            } else {
+                0.0
+            };
         }
     }
 

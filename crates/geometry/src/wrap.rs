@@ -15,7 +15,8 @@
 use crate::error::GeometryError;
 use crate::kinematics::{offset_transform, BodyPoses, Mat3, Vec3};
 use crate::path::distance;
-use crate::wrap_shapes::{wrap_cylinder, wrap_sphere, SurfacePath, WrapAction};
+use crate::wrap_ellipsoid::{wrap_ellipsoid, WrapMethod};
+use crate::wrap_shapes::{values, wrap_cylinder, wrap_sphere, SurfacePath, WrapAction};
 use stride_ad::Scalar;
 use stride_model::{Offset, WrapObject, WrapQuadrant, WrapShape};
 
@@ -52,10 +53,17 @@ impl PreparedWrapObject {
         })
     }
 
+    /// Index of the body carrying the wrap object.
+    pub(crate) fn body(&self) -> usize {
+        self.body
+    }
+
     /// OpenSim class of a shape this module cannot wrap over, if it is one.
     pub(crate) fn unsupported(&self) -> Option<&'static str> {
         match self.shape {
-            WrapShape::Cylinder { .. } | WrapShape::Sphere { .. } => None,
+            WrapShape::Cylinder { .. } | WrapShape::Sphere { .. } | WrapShape::Ellipsoid { .. } => {
+                None
+            }
             _ => Some(self.shape.class_name()),
         }
     }
@@ -75,26 +83,34 @@ impl PreparedWrapObject {
         (r, o)
     }
 
-    /// Wraps the segment `a`–`b` (wrap frame [m]).
-    fn wrap<T: Scalar>(&self, a: &Vec3<T>, b: &Vec3<T>) -> WrapAction<T> {
+    /// Wraps the segment `a`–`b` (wrap frame [m]); `method` chooses an ellipsoid's plane.
+    fn wrap<T: Scalar>(&self, a: &Vec3<T>, b: &Vec3<T>, method: WrapMethod) -> WrapAction<T> {
         match self.shape {
             WrapShape::Cylinder { radius, length } => {
                 wrap_cylinder(a, b, radius, length, self.quadrant)
             }
             WrapShape::Sphere { radius } => wrap_sphere(a, b, radius, self.quadrant),
+            WrapShape::Ellipsoid { radii } => {
+                // Tangent points fixed on the ellipsoid: OpenSim's moment arms.
+                let (a, b) = (values(a), values(b));
+                wrap_ellipsoid(&a, &b, radii, self.quadrant, method).to_constant()
+            }
             // Rejected when the paths are prepared.
             _ => WrapAction::NoWrap,
         }
     }
 }
 
-/// One wrap of a muscle path: the object and the 1-based range of path points.
+/// One wrap of a muscle path: the object, the 1-based range of path points and the
+/// method (ellipsoids).
 #[derive(Clone, Debug)]
 pub(crate) struct PreparedPathWrap {
     /// Index of the wrap object.
     pub object: usize,
     /// First and last path point considered (below 1: the first / last point).
     pub range: [i32; 2],
+    /// How an ellipsoid's wrapping plane is chosen.
+    pub method: WrapMethod,
 }
 
 /// Where a node of the current path comes from.
@@ -224,7 +240,7 @@ fn best_wrap<T: Scalar>(
             continue;
         }
         let (a, b) = (to_local(&n1.at), to_local(&n2.at));
-        match object.wrap(&a, &b) {
+        match object.wrap(&a, &b, wraps[w].method) {
             WrapAction::Mandatory(sp) => {
                 code = Code::Wrapped;
                 best = Some((pt1, sp));

@@ -25,6 +25,24 @@ pub(crate) enum WrapAction<T> {
     Mandatory(SurfacePath<T>),
 }
 
+impl WrapAction<f64> {
+    /// The same outcome on any scalar, as constants: tangent points fixed in the wrap
+    /// frame and a fixed surface length.
+    pub(crate) fn to_constant<T: Scalar>(self) -> WrapAction<T> {
+        let lift = |sp: SurfacePath<f64>| SurfacePath {
+            r1: sp.r1.map(T::cst),
+            r2: sp.r2.map(T::cst),
+            length: T::cst(sp.length),
+        };
+        match self {
+            Self::NoWrap => WrapAction::NoWrap,
+            Self::Inside => WrapAction::Inside,
+            Self::Wrapped(sp) => WrapAction::Wrapped(lift(sp)),
+            Self::Mandatory(sp) => WrapAction::Mandatory(lift(sp)),
+        }
+    }
+}
+
 /// A wrapped segment: tangent points (wrap frame [m]) and the length on the surface [m].
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SurfacePath<T> {
@@ -37,7 +55,7 @@ pub(crate) struct SurfacePath<T> {
 }
 
 /// OpenSim's `DSIGN`: +1 for x ≥ 0, else −1.
-fn dsign(x: f64) -> i8 {
+pub(crate) fn dsign(x: f64) -> i8 {
     if x >= 0.0 {
         1
     } else {
@@ -45,7 +63,8 @@ fn dsign(x: f64) -> i8 {
     }
 }
 
-fn values<T: Scalar>(p: &Vec3<T>) -> [f64; 3] {
+/// Primal values of a point.
+pub(crate) fn values<T: Scalar>(p: &Vec3<T>) -> [f64; 3] {
     [p[0].value(), p[1].value(), p[2].value()]
 }
 
@@ -83,10 +102,14 @@ fn circle_tangents<T: Scalar>(p: [T; 2], r: f64) -> [[T; 2]; 2] {
     ]
 }
 
-/// Angle [rad] in [0, π] between two 2-D vectors of equal length, by `atan` only.
-fn arc_angle<T: Scalar>(a: [T; 2], b: [T; 2]) -> T {
-    let d = ((a[0] - b[0]).sq() + (a[1] - b[1]).sq()).sqrt();
-    let s = ((a[0] + b[0]).sq() + (a[1] + b[1]).sq()).sqrt();
+/// Angle [rad] in [0, π] between two vectors of equal length, by `atan` only.
+pub(crate) fn arc_angle<T: Scalar, const N: usize>(a: [T; N], b: [T; N]) -> T {
+    let (mut d, mut s) = (T::zero(), T::zero());
+    for k in 0..N {
+        d += (a[k] - b[k]).sq();
+        s += (a[k] + b[k]).sq();
+    }
+    let (d, s) = (d.sqrt(), s.sqrt());
     if d.value() <= s.value() {
         (d / s).apply(crate::atan::atan()) * 2.0
     } else {

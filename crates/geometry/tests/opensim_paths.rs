@@ -216,3 +216,19 @@ fn wrap_model_matches_opensim() {
     let known = ["cyl_on_arm", "two_wraps"];
     check_model_in(Path::new(dir), "wrap_model", "wrap_model.osim", &known);
 }
+
+/// The small model of `tools/opensim_reference/paths_wrap_ellipsoid.py` (kept in this
+/// crate): ellipsoids with the three wrap methods, quadrants, on the ground and on a
+/// moving body, and a point range. OpenSim's moment arms of an ellipsoid wrap are not the
+/// derivatives of its length (its surface path is not the shortest one): they treat the
+/// tangent points as fixed on the ellipsoid, as stride's do.
+#[test]
+fn wrap_ellipsoid_model_matches_opensim() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data");
+    check_model_in(
+        Path::new(dir),
+        "wrap_ellipsoid_model",
+        "wrap_ellipsoid_model.osim",
+        &[],
+    );
+}

@@ -482,8 +482,11 @@ pub struct Ligament {
     /// Normalised force–length curve: tension / `pcsa_force` as a function of
     /// length / `resting_length` (dimensionless).
     pub force_length: Function,
-    /// Path points from origin to insertion (wrapping over wrap objects is not part of it).
+    /// Path points from origin to insertion.
     pub path: Vec<PathPoint>,
+    /// Wrap objects the path wraps over, in the order OpenSim applies them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wraps: Vec<PathWrap>,
 }
 
 /// A dependent coordinate that follows an independent one:

@@ -4,7 +4,7 @@
 
 use super::functions::parse_function_in;
 use super::skeleton::Frames;
-use super::xml::{child, child_text, last_component, mul, name_of, objects, rot_xyz, tag, text};
+use super::xml::{child, last_component, mul, name_of, objects, rot_xyz, tag, text};
 use super::xml::{Ctx, El};
 use super::OsimError;
 use crate::model::{
@@ -147,17 +147,7 @@ fn ligament(
 ) -> Result<Ligament, OsimError> {
     let gp = ctx.req(f, "GeometryPath")?;
     let path = geometry_path_points(ctx, gp, "ligament", v4, frames, model)?;
-    if let Some(pw) = child(gp, "PathWrapSet") {
-        for w in objects(pw) {
-            let obj = child_text(w, "wrap_object").to_string();
-            report(
-                ctx,
-                model,
-                w,
-                format!("path wrapping (over `{obj}`) is ignored: the path is straight-line"),
-            );
-        }
-    }
+    let wraps = super::wrap::read_path_wraps(ctx, gp, path.len(), model)?;
     let curve = super::xml::elements(f)
         .find(|e| name_of(*e) == "force_length_curve" || tag(*e) == "force_length_curve")
         .ok_or_else(|| ctx.missing(f, "force_length_curve"))?;
@@ -180,6 +170,7 @@ fn ligament(
         pcsa_force: positive("pcsa_force")?,
         force_length,
         path,
+        wraps,
     })
 }
 
