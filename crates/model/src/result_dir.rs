@@ -506,15 +506,15 @@ mod tests {
         let handled = clean_stale(&d);
         assert_eq!(handled.len(), 3, "{handled:?}");
         assert!(d.join(&other).exists(), "another host's staging is left");
+        assert!(!d.join(format!(".r.partial-{dead}")).exists());
+        assert!(d.join(format!(".r.partial-{me}")).exists());
+        assert!(d.join("q").is_dir(), "the result moved aside is put back");
+        assert!(d.join("keep.partial-1").exists());
         // the holder of a claim on `r` removes every staging folder of `r` but its own
         let mine = stage(&d.join("r"), "partial", ResultKind::Prediction).unwrap();
         let removed = clean_staging_of(&d, "r");
         assert!(removed.contains(&d.join(&other)), "{removed:?}");
         assert!(mine.exists() && mine.to_string_lossy().contains(&owner_tag()));
-        assert!(!d.join(format!(".r.partial-{dead}")).exists());
-        assert!(d.join(format!(".r.partial-{me}")).exists());
-        assert!(d.join("q").is_dir(), "the result moved aside is put back");
-        assert!(d.join("keep.partial-1").exists());
         std::fs::remove_dir_all(&d).unwrap();
     }
 
