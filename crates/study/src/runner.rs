@@ -352,7 +352,11 @@ fn claim_case(
             return Some(claim)
         }
         Ok((Ok(_), Some(r))) => {
-            let line = format!("{}: finished by another runner ({})", r.name, r.status.as_str());
+            let line = format!(
+                "{}: finished by another runner ({})",
+                r.name,
+                r.status.as_str()
+            );
             sh.records[i] = Some(r);
             sh.state[i] = State::Done;
             sh.adopted += 1;
@@ -362,7 +366,10 @@ fn claim_case(
             sh.state[i] = State::Elsewhere;
             for j in i + 1..cases.len() {
                 if sh.state[j] == State::Pending
-                    && cases[j].sources.iter().any(|&s| sh.state[s] == State::Elsewhere)
+                    && cases[j]
+                        .sources
+                        .iter()
+                        .any(|&s| sh.state[s] == State::Elsewhere)
                 {
                     sh.state[j] = State::Elsewhere;
                 }

@@ -19,8 +19,12 @@ pub const CASE_RECORD: &str = "case.json";
 pub const STUDY_HASH: &str = "study.hash";
 /// Lock file of a study output folder: a whole-study run holds it exclusively (its process
 /// id written inside); runners of single cases (cluster array tasks) hold it shared, each
-/// with a claim on the case it runs (`cases/.<case>.lock`, [`stride_model::claim`]).
+/// with a claim on the case it runs ([`Store::claim`]).
 pub const STUDY_LOCK: &str = ".lock";
+
+/// Folder of the case claim files (`<case>.lock`, [`stride_model::claim`]): a claim file
+/// names the live or last process that ran the case.
+pub const CLAIMS: &str = "claims";
 
 /// Why the output folder could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -251,6 +255,8 @@ impl Store {
         result_dir::check_writable(root)?;
         let cases = root.join("cases");
         std::fs::create_dir_all(&cases).map_err(|e| io_err(&cases, e))?;
+        let claims = root.join(CLAIMS);
+        std::fs::create_dir_all(&claims).map_err(|e| io_err(&claims, e))?;
         let lock = lock_study_as(root, mode)?;
         let hash = fnv1a64(study.source_text.as_bytes());
         let hash_file = root.join(STUDY_HASH);
@@ -301,9 +307,9 @@ impl Store {
         Ok(store)
     }
 
-    /// Claim file of a case (`cases/.<name>.lock`).
+    /// Claim file of a case (`claims/<name>.lock`).
     pub fn claim_path(&self, name: &str) -> PathBuf {
-        self.cases_dir().join(format!(".{name}.lock"))
+        self.root.join(CLAIMS).join(format!("{name}.lock"))
     }
 
     /// Claim case `name` for this process before running it: `Ok(Err(holder))` when a live
