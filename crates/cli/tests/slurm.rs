@@ -60,7 +60,7 @@ impl Cluster {
         let have = Command::new("sh")
             .args([
                 "-c",
-                "command -v munged slurmctld slurmd sbatch squeue sinfo",
+                "for p in munged slurmctld slurmd sbatch squeue sinfo; do command -v $p || exit 1; done",
             ])
             .output()
             .map_err(|e| e.to_string())?;

@@ -364,12 +364,9 @@ fn claim_case(
         }
         Ok((Err(holder), _)) => {
             sh.state[i] = State::Elsewhere;
-            for j in i + 1..cases.len() {
+            for (j, c) in cases.iter().enumerate().skip(i + 1) {
                 if sh.state[j] == State::Pending
-                    && cases[j]
-                        .sources
-                        .iter()
-                        .any(|&s| sh.state[s] == State::Elsewhere)
+                    && c.sources.iter().any(|&s| sh.state[s] == State::Elsewhere)
                 {
                     sh.state[j] = State::Elsewhere;
                 }
