@@ -317,3 +317,63 @@ fn a_study_through_slurm_survives_a_killed_task_and_equals_a_local_run() {
     );
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+#[test]
+fn dry_run_prints_array_scripts_and_bad_settings_are_refused_before_submitting() {
+    let d = std::env::temp_dir().join(format!("stride-slurm-dry-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let file = d.join("cluster.toml");
+    std::fs::write(
+        &file,
+        format!("{STUDY}\n[slurm]\nthrottle = 2\nextra_args = [\"--account=gait\"]\n"),
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["study", f, "--out", "o", "--slurm", "--dry-run"];
+        args.extend(extra);
+        Command::new(stride())
+            .args(&args)
+            .current_dir(&d)
+            .output()
+            .unwrap()
+    };
+    let o = run(&["--time", "0:45:00", "--mem", "2G"]);
+    let t = text(&o.stdout);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for line in [
+        "#SBATCH --array=0-2%2",
+        "#SBATCH --array=0-0%2",
+        "#SBATCH --time=0-00:45:00",
+        "#SBATCH --time=0-01:30:00",
+        "#SBATCH --mem=2048M",
+        "#SBATCH --account=gait",
+        "'speed_1.43__fos,speed_1.53__fos'",
+        "--dependency=afterany:$J0:$J1",
+        "5 cases in 4 tasks, 2 array job(s) and a report job",
+    ] {
+        assert!(t.contains(line), "{line} missing from:\n{t}");
+    }
+    assert!(!d.join("o").exists(), "a dry run writes nothing");
+    for (bad, needle) in [
+        ("--time=-5", "time `-5`"),
+        ("--mem=0", "mem `0`"),
+        ("--throttle=0", "throttle = 0"),
+    ] {
+        let o = run(&[bad]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{bad}: {err}");
+        assert!(
+            err.contains(needle) && err.lines().count() == 1,
+            "{bad}: {err}"
+        );
+    }
+    std::fs::write(&file, format!("{STUDY}\n[slurm]\ntime = \"1:xx\"\n")).unwrap();
+    let err = text(&run(&[]).stderr);
+    assert!(
+        err.contains("cluster.toml: [slurm]") && err.contains("time `1:xx`"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
