@@ -23,8 +23,9 @@ pub struct StudyArgs {
     /// Output folder (overrides `[study] output`).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Cases solved at the same time (overrides `[study] jobs`).
-    #[arg(long)]
+    /// Cases solved at the same time (overrides `[study] jobs`; not with --case or
+    /// --slurm, whose tasks run one case at a time).
+    #[arg(long, conflicts_with_all = ["case", "slurm"])]
     pub jobs: Option<usize>,
     /// Evaluation threads per case (overrides `[study] threads_per_case`).
     #[arg(long)]

@@ -90,6 +90,7 @@ pub fn run(
         file: absolute(&args.file)?,
         out: absolute(out)?,
         retry_failed: args.retry_failed,
+        max_iter: args.max_iter,
         settings,
     };
     let store = (!args.dry_run)

@@ -23,6 +23,8 @@ pub struct Job<'a> {
     pub out: PathBuf,
     /// Pass `--retry-failed` to the tasks.
     pub retry_failed: bool,
+    /// Iteration limit per case passed to the tasks (`--max-iter`).
+    pub max_iter: Option<usize>,
     /// Checked settings.
     pub settings: Settings,
 }
@@ -92,9 +94,21 @@ impl Job<'_> {
             sh(&self.file.display().to_string()),
             sh(&self.out.display().to_string()),
             self.settings.cpus,
-            if self.retry_failed { " --retry-failed" } else { "" }
+            self.task_options()
         );
         t
+    }
+
+    /// The options of `stride study` that the tasks get from the submitting command.
+    fn task_options(&self) -> String {
+        let mut o = String::new();
+        if self.retry_failed {
+            o += " --retry-failed";
+        }
+        if let Some(n) = self.max_iter {
+            o += &format!(" --max-iter {n}");
+        }
+        o
     }
 
     /// The job script of the final report (`stride report`).
