@@ -10,6 +10,8 @@ mod model_load;
 mod paths_cmd;
 mod predict_cmd;
 mod progress;
+mod slurm;
+mod status_cmd;
 mod study_cmd;
 mod track_cmd;
 mod view_cmd;

@@ -23,8 +23,9 @@ pub struct StudyArgs {
     /// Output folder (overrides `[study] output`).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Cases solved at the same time (overrides `[study] jobs`).
-    #[arg(long)]
+    /// Cases solved at the same time (overrides `[study] jobs`; not with --case or
+    /// --slurm, whose tasks run one case at a time).
+    #[arg(long, conflicts_with_all = ["case", "slurm"])]
     pub jobs: Option<usize>,
     /// Evaluation threads per case (overrides `[study] threads_per_case`).
     #[arg(long)]
@@ -43,7 +44,21 @@ pub struct StudyArgs {
     /// others stay as they are (finished, or not run until a later run).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
-    /// Only expand and validate: list the cases (those selected by `--only`) and exit.
+    /// Run only these cases (comma-separated names, or indices from 0 in the study's
+    /// order), in this order, one at a time, alongside other runners of the same folder
+    /// (cluster array tasks): each case is claimed before it runs, a finished or claimed
+    /// case is skipped; no report is written (`stride report` does).
+    #[arg(long, value_delimiter = ',', conflicts_with_all = ["only", "slurm", "status"])]
+    pub case: Vec<String>,
+    /// Show which cases are finished (converged, failed), running (a live claim, on any
+    /// host) or missing, from the output folder alone, and exit.
+    #[arg(long, conflicts_with_all = ["slurm", "dry_run"])]
+    pub status: bool,
+    /// Submission to a Slurm cluster.
+    #[command(flatten)]
+    pub slurm: crate::slurm::SlurmArgs,
+    /// Only expand and validate: list the cases (those selected by `--only`) and exit;
+    /// with --slurm, print the job scripts and `sbatch` lines instead of submitting.
     #[arg(long)]
     pub dry_run: bool,
     /// No progress output.
@@ -108,7 +123,13 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     }
     check_cases(&model, &study.cases, s.presolve_mesh)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
-    let only = if args.only.is_empty() {
+    let out = args.out.clone().unwrap_or_else(|| h.output.clone());
+    if args.status {
+        return crate::status_cmd::print(&study, &out);
+    }
+    let only = if !args.case.is_empty() {
+        Some(case_mask(&study, &args.case).with_context(|| args.file.display().to_string())?)
+    } else if args.only.is_empty() {
         None
     } else {
         Some(
@@ -116,6 +137,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
                 .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?,
         )
     };
+    if args.slurm.slurm {
+        let selected = |i: usize| only.as_ref().is_none_or(|m| m[i]);
+        return crate::slurm::run(&args, &study, &model, &out, &selected);
+    }
     let selected = |i: usize| only.as_ref().is_none_or(|m| m[i]);
     if args.dry_run {
         for (i, c) in study.cases.iter().enumerate() {
@@ -127,9 +152,14 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         println!("{n} of {} cases", study.cases.len());
         return Ok(());
     }
-    let out = args.out.clone().unwrap_or_else(|| h.output.clone());
-    let store = Store::open(&out, &study, args.force)?;
-    if !args.quiet {
+    let single = !args.case.is_empty();
+    let store = if single {
+        Store::open_shared(&out, &study, args.force)?.with_job(&batch_job())
+    } else {
+        Store::open(&out, &study, args.force)?
+    };
+    let jobs = if single { 1 } else { jobs };
+    if !args.quiet && !single {
         eprintln!(
             "study `{}`: {} cases, {jobs} at a time, {threads} solver thread(s) each, output {}",
             h.name,
@@ -152,9 +182,12 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
             jobs,
             progress: (!args.quiet).then_some(say as fn(&str)),
             retry_failed: args.retry_failed,
-            only,
+            only: only.clone(),
         },
     )?;
+    if single {
+        return finish_cases(&store, &study, &only.unwrap_or_default(), summary.elsewhere);
+    }
     let recompute = |dir: &Path| measures_from_solution(&runner.model, dir);
     let report = analysis::report_folder_with(&out, Some(&recompute))?;
     let left_out = if summary.not_selected > 0 {
@@ -297,6 +330,67 @@ pub fn report(args: ReportArgs) -> anyhow::Result<()> {
         args.folder.join("report.json").display()
     );
     print_series(&report);
+    Ok(())
+}
+
+/// The mask of the cases named by `--case` (names, or indices from 0).
+fn case_mask(study: &spec::Study, names: &[String]) -> anyhow::Result<Vec<bool>> {
+    let mut mask = vec![false; study.cases.len()];
+    for n in names {
+        let i = study
+            .cases
+            .iter()
+            .position(|c| c.name == *n)
+            .or_else(|| n.parse::<usize>().ok().filter(|&i| i < study.cases.len()))
+            .ok_or_else(|| {
+                anyhow::anyhow!(
+                    "--case {n}: no case of this name, nor an index below {} (`stride study FILE --dry-run` lists them)",
+                    study.cases.len()
+                )
+            })?;
+        mask[i] = true;
+    }
+    Ok(mask)
+}
+
+/// The batch job this process runs in, as Slurm names it (`<array job>_<task>`, or the
+/// job id), `-` outside a batch job: written into case claims.
+fn batch_job() -> String {
+    let var = |k: &str| std::env::var(k).ok().filter(|v| !v.is_empty());
+    match (var("SLURM_ARRAY_JOB_ID"), var("SLURM_ARRAY_TASK_ID")) {
+        (Some(j), Some(t)) => format!("{j}_{t}"),
+        _ => var("SLURM_JOB_ID").unwrap_or_else(|| "-".into()),
+    }
+}
+
+/// End of a `--case` run: one line per selected case; exit 2 when one of them failed, 3
+/// when one was left to another runner.
+fn finish_cases(
+    store: &Store,
+    study: &spec::Study,
+    mask: &[bool],
+    elsewhere: usize,
+) -> anyhow::Result<()> {
+    let mut failed = 0;
+    for (c, _) in study.cases.iter().zip(mask).filter(|(_, &m)| m) {
+        let state = match store.record(&c.name)? {
+            Some(r) => {
+                if r.status != stride_study::store::CaseStatus::Converged {
+                    failed += 1;
+                }
+                format!("{} ({})", r.status.as_str(), r.reason)
+            }
+            None => "not run here".to_string(),
+        };
+        println!("{}: {state}", c.name);
+    }
+    if failed > 0 {
+        std::process::exit(2);
+    }
+    if elsewhere > 0 {
+        eprintln!("{elsewhere} case(s) left to other runners that hold them");
+        std::process::exit(3);
+    }
     Ok(())
 }
 

@@ -12,6 +12,7 @@
 //! - [`default_model`]: the built-in model.
 //! - [`inspect`]: human-readable tables of a model.
 
+pub mod claim;
 pub mod default_model;
 pub mod function;
 pub mod inspect;

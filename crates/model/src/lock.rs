@@ -95,6 +95,20 @@ impl FileLock {
     pub fn path(&self) -> &Path {
         &self.path
     }
+
+    /// Replace the lock file's text (an exclusive holder describing itself).
+    pub fn set_text(&self, text: &str) -> std::io::Result<()> {
+        let mut f = &self.file;
+        f.set_len(0)?;
+        f.rewind()?;
+        f.write_all(text.as_bytes())?;
+        f.flush()
+    }
+
+    /// Set the lock file's modification time to now (a holder's heartbeat).
+    pub fn touch(&self) -> std::io::Result<()> {
+        self.file.set_modified(std::time::SystemTime::now())
+    }
 }
 
 impl Drop for FileLock {

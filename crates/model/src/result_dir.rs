@@ -6,9 +6,11 @@
 //! JSON with the kind of result and the stride version), or a result folder written before
 //! the marker existed. Anything else (a folder holding a user's files, a regular file) is
 //! refused before any work starts. A result is written into one hidden sibling folder
-//! (`.NAME.partial-<pid>`, see [`stage`]) that replaces the output folder only when
+//! (`.NAME.partial-<host>-<pid>`, see [`stage`]) that replaces the output folder only when
 //! complete ([`commit`]); staging folders of processes that no longer run are removed by
-//! the next run ([`clean_stale`]).
+//! the next run on the same host ([`clean_stale`]). The host name keeps the staging folders
+//! of two machines writing one shared folder (cluster nodes) apart, even when their
+//! process ids are equal.
 
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -211,20 +213,51 @@ pub fn check_writable(out: &Path) -> Result<(), OutputError> {
     let _ = std::fs::remove_dir(&probe);
     if out.is_dir() {
         clean_stale(out);
-        let probe = out.join(format!(".stride.probe-{}", std::process::id()));
+        let probe = out.join(format!(".stride.probe-{}", owner_tag()));
         std::fs::File::create(&probe).map_err(|e| not_writable(out, e))?;
         let _ = std::fs::remove_file(&probe);
     }
     Ok(())
 }
 
-/// Hidden sibling of `out` named after it, a tag and this process: `.NAME.TAG-<pid>`.
-fn staging_path(out: &Path, tag: &str) -> PathBuf {
-    let name = out.file_name().and_then(|s| s.to_str()).unwrap_or("out");
-    parent_of(out).join(format!(".{name}.{tag}-{}", std::process::id()))
+/// The short name of this machine (up to the first dot), reduced to letters, digits and
+/// `-`: it tells apart the temporary files of processes on different cluster nodes.
+pub fn this_host() -> &'static str {
+    static HOST: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    HOST.get_or_init(|| {
+        let mut buf = [0u8; 256];
+        // SAFETY: gethostname writes at most buf.len() bytes into the buffer it is given.
+        let ok = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) } == 0;
+        let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
+        let name = String::from_utf8_lossy(&buf[..end]);
+        let short: String = name
+            .split('.')
+            .next()
+            .unwrap_or("")
+            .chars()
+            .filter(|c| c.is_ascii_alphanumeric() || *c == '-')
+            .collect();
+        if ok && !short.is_empty() {
+            short
+        } else {
+            "host".into()
+        }
+    })
 }
 
-/// A fresh staging folder beside `out` (`.NAME.TAG-<pid>`, e.g. tag `partial`) holding the
+/// This process as named in temporary files: `<host>-<pid>`.
+pub fn owner_tag() -> String {
+    format!("{}-{}", this_host(), std::process::id())
+}
+
+/// Hidden sibling of `out` named after it, a tag and this process:
+/// `.NAME.TAG-<host>-<pid>`.
+fn staging_path(out: &Path, tag: &str) -> PathBuf {
+    let name = out.file_name().and_then(|s| s.to_str()).unwrap_or("out");
+    parent_of(out).join(format!(".{name}.{tag}-{}", owner_tag()))
+}
+
+/// A fresh staging folder beside `out` (`.NAME.TAG-<host>-<pid>`, e.g. tag `partial`) holding the
 /// marker of `kind`; staging folders of dead processes beside it are removed first.
 pub fn stage(out: &Path, tag: &str, kind: ResultKind) -> std::io::Result<PathBuf> {
     let parent = parent_of(out);
@@ -241,7 +274,7 @@ pub fn stage(out: &Path, tag: &str, kind: ResultKind) -> std::io::Result<PathBuf
 }
 
 /// Put the complete staging folder `tmp` in place of `out` (which is free or a stride
-/// result, see [`inspect`]): the old folder is moved aside (`.NAME.old-<pid>`), `tmp`
+/// result, see [`inspect`]): the old folder is moved aside (`.NAME.old-<host>-<pid>`), `tmp`
 /// renamed into its place and the old folder removed. If the rename fails the old folder is
 /// put back and `tmp` removed: `out` is the old result or the new one, never a mix.
 pub fn commit(tmp: &Path, out: &Path) -> std::io::Result<()> {
@@ -274,15 +307,37 @@ pub fn commit(tmp: &Path, out: &Path) -> std::io::Result<()> {
     }
 }
 
-/// The process id and the original name in a staging name `.NAME.TAG-<pid>` (or a
-/// temporary file `.NAME.tmp<pid>` of [`crate::storage::write_atomic`]) with TAG one of
-/// stride's; the tag is returned too.
-fn staging_pid(name: &str) -> Option<(u32, &'static str, &str)> {
+/// Who made a staging entry, and for what.
+struct Staging<'a> {
+    /// Host named in the entry (`None`: a name without host, from an older version).
+    host: Option<&'a str>,
+    /// Process id.
+    pid: u32,
+    /// The tag (`.partial-`, `.old-`, …).
+    tag: &'static str,
+    /// The name of the folder or file it stands for.
+    original: &'a str,
+}
+
+/// Parse a staging name `.NAME.TAG-<host>-<pid>` (or `.NAME.TAG-<pid>`, or a temporary
+/// file `.NAME.tmp-<host>-<pid>` of [`crate::storage::write_atomic`]) with TAG one of
+/// stride's.
+fn staging_of(name: &str) -> Option<Staging<'_>> {
     let rest = name.strip_prefix('.')?;
     for tag in [".partial-", ".rewrite-", ".probe-", ".old-", ".tmp"] {
         if let Some(at) = rest.rfind(tag) {
-            let pid = rest[at + tag.len()..].parse().ok()?;
-            return Some((pid, tag, &rest[..at]));
+            let owner = &rest[at + tag.len()..];
+            let owner = owner.strip_prefix('-').unwrap_or(owner);
+            let (host, pid) = match owner.rsplit_once('-') {
+                Some((h, p)) if !h.is_empty() => (Some(h), p),
+                _ => (None, owner),
+            };
+            return Some(Staging {
+                host,
+                pid: pid.parse().ok()?,
+                tag,
+                original: &rest[..at],
+            });
         }
     }
     None
@@ -298,26 +353,46 @@ pub fn process_alive(pid: u32) -> bool {
     r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
 }
 
-/// Remove the staging folders and temporary files in `dir` left by stride processes that no
-/// longer run; an old result moved aside by a killed [`commit`] is put back when its
-/// folder is missing. Returns the entries handled.
+/// Remove the staging folders and temporary files in `dir` left by stride processes of this
+/// host that no longer run (those of other hosts are left: their processes cannot be
+/// checked from here); an old result moved aside by a killed [`commit`] is put back when
+/// its folder is missing. Returns the entries handled.
 pub fn clean_stale(dir: &Path) -> Vec<PathBuf> {
+    clean_where(dir, |s| {
+        s.host.is_none_or(|h| h == this_host())
+            && s.pid != std::process::id()
+            && !process_alive(s.pid)
+    })
+}
+
+/// Remove every staging entry in `dir` that stands for `original` (of any host and
+/// process but this one), restoring a moved-aside old result as [`clean_stale`] does: for
+/// the holder of an exclusive claim on `original`, whose entries no other live process can
+/// be writing.
+pub fn clean_staging_of(dir: &Path, original: &str) -> Vec<PathBuf> {
+    let me = owner_tag();
+    clean_where(dir, |s| {
+        s.original == original && s.host.map(|h| format!("{h}-{}", s.pid)) != Some(me.clone())
+    })
+}
+
+fn clean_where(dir: &Path, stale: impl Fn(&Staging) -> bool) -> Vec<PathBuf> {
     let mut handled = Vec::new();
     let Ok(rd) = std::fs::read_dir(dir) else {
         return handled;
     };
     for e in rd.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        let Some((pid, tag, original)) = staging_pid(&name) else {
+        let Some(s) = staging_of(&name) else {
             continue;
         };
-        if pid == std::process::id() || process_alive(pid) {
+        if !stale(&s) {
             continue;
         }
         let path = e.path();
-        let original = dir.join(original);
-        if tag == ".old-"
-            && !original.as_os_str().is_empty()
+        let original = dir.join(s.original);
+        if s.tag == ".old-"
+            && !s.original.is_empty()
             && !original.exists()
             && std::fs::rename(&path, &original).is_ok()
         {
@@ -425,12 +500,21 @@ mod tests {
         }
         std::fs::write(d.join(format!(".index.csv.tmp{dead}")), "x").unwrap();
         std::fs::write(d.join("keep.partial-1"), "user file").unwrap();
+        // another node's staging, with the same process id as a dead one here
+        let other = format!(".r.partial-other-node-{dead}");
+        std::fs::create_dir(d.join(&other)).unwrap();
         let handled = clean_stale(&d);
         assert_eq!(handled.len(), 3, "{handled:?}");
+        assert!(d.join(&other).exists(), "another host's staging is left");
         assert!(!d.join(format!(".r.partial-{dead}")).exists());
         assert!(d.join(format!(".r.partial-{me}")).exists());
         assert!(d.join("q").is_dir(), "the result moved aside is put back");
         assert!(d.join("keep.partial-1").exists());
+        // the holder of a claim on `r` removes every staging folder of `r` but its own
+        let mine = stage(&d.join("r"), "partial", ResultKind::Prediction).unwrap();
+        let removed = clean_staging_of(&d, "r");
+        assert!(removed.contains(&d.join(&other)), "{removed:?}");
+        assert!(mine.exists() && mine.to_string_lossy().contains(&owner_tag()));
         std::fs::remove_dir_all(&d).unwrap();
     }
 

@@ -393,7 +393,7 @@ fn o(v: Option<f64>) -> String {
 }
 
 /// Read a study output folder (its copy of the study file and the case records), write
-/// `report.json`, `selected.csv` and one `speed_series_<i>.csv` per series, and the
+/// `index.csv`, `report.json`, `selected.csv` and one `speed_series_<i>.csv` per series, and the
 /// condition comparison with the measures stored in the case summaries.
 pub fn report_folder(folder: &Path) -> Result<Report, ReportError> {
     report_folder_with(folder, None)
@@ -413,6 +413,8 @@ pub fn report_folder_with(
         .iter()
         .map(|c| store.record(&c.name))
         .collect::<Result<_, _>>()?;
+    // index.csv from the records on disk (runners of single cases each wrote their view)
+    store.write_index(&study.cases, &records, &spec::varying_axes(&study.cases))?;
     let mut report = build_report(&study.header.name, &study.cases, &records);
     let table = crate::conditions::condition_table(&study, &report.selected, folder, recompute);
     // Written when at least one kept case has the measures in its summary.

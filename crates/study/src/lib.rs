@@ -7,6 +7,7 @@
 //! - [`analysis`]: walk/run classification, transition speed, fits, `report.json`.
 //! - [`conditions`]: conditions against the reference case (`conditions.csv`, figure).
 //! - [`figures`]: COT and stride frequency versus speed (SVG, PNG).
+//! - [`tasks`]: a study cut into tasks and waves for a batch scheduler (Slurm arrays).
 
 pub mod analysis;
 pub mod conditions;
@@ -15,3 +16,4 @@ pub mod predict_runner;
 pub mod runner;
 pub mod spec;
 pub mod store;
+pub mod tasks;

@@ -1,5 +1,7 @@
 //! Running a study: cases in parallel (dependencies first), resumable, each failure
-//! recorded without stopping the others, `index.csv` rewritten after every case.
+//! recorded without stopping the others, `index.csv` rewritten after every case. Each case
+//! is claimed before it runs ([`Store::claim`]): a case claimed by another live runner (an
+//! array task on another node) is left to it, together with the cases that wait for it.
 
 use crate::spec::{varying_axes, Case, Study};
 use crate::store::{CaseOutcome, CaseRecord, CaseStatus, Store, StoreError};
@@ -50,6 +52,9 @@ pub struct RunSummary {
     pub ran: usize,
     /// Unfinished cases left out by the selection (`RunOptions::only`).
     pub not_selected: usize,
+    /// Cases left to another live runner that had claimed them (with the cases waiting for
+    /// them).
+    pub elsewhere: usize,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -59,6 +64,8 @@ enum State {
     Done,
     /// Unfinished and not selected: not run now.
     Excluded,
+    /// Claimed by another runner, or waiting for such a case: not run here.
+    Elsewhere,
 }
 
 struct Shared {
@@ -66,6 +73,8 @@ struct Shared {
     records: Vec<Option<CaseRecord>>,
     running: usize,
     ran: usize,
+    /// Cases found finished by another runner when claimed.
+    adopted: usize,
     time_spent: Duration,
     error: Option<StoreError>,
     /// Start time of each case in flight.
@@ -157,6 +166,7 @@ pub fn run_study(
         iterations: vec![0; cases.len()],
         finished: false,
         ran: 0,
+        adopted: 0,
         time_spent: Duration::ZERO,
         error: None,
         chain: chain_lengths(cases),
@@ -190,9 +200,10 @@ pub fn run_study(
     Ok(RunSummary {
         converged: count(CaseStatus::Converged),
         failed: count(CaseStatus::Failed),
-        skipped,
+        skipped: skipped + sh.adopted,
         ran: sh.ran,
         not_selected,
+        elsewhere: sh.state.iter().filter(|&&s| s == State::Elsewhere).count(),
     })
 }
 
@@ -259,6 +270,9 @@ fn worker(
             }
         };
         let case = &cases[i];
+        let Some(_claim) = claim_case(store, opts, cases, i, shared, wake) else {
+            continue;
+        };
         let start = Instant::now();
         let tmp = store.temp_dir(&case.name);
         let outcome: Result<CaseOutcome, String> = match &tmp {
@@ -300,7 +314,11 @@ fn worker(
             sh.error = Some(e);
         } else {
             sh.records[i] = Some(record.clone());
-            if let Err(e) = store.write_index(cases, &sh.records, axes) {
+            // cases finished meanwhile by other runners of the folder are listed too
+            let on_disk: Vec<Option<CaseRecord>> = (sh.records.iter().zip(cases))
+                .map(|(r, c)| r.clone().or_else(|| store.record(&c.name).ok().flatten()))
+                .collect();
+            if let Err(e) = store.write_index(cases, &on_disk, axes) {
                 sh.error = Some(e);
             }
         }
@@ -310,6 +328,64 @@ fn worker(
         drop(sh);
         wake.notify_all();
     }
+}
+
+/// Claim case `i` (marked running) for this runner: `None` when it is not to be run here
+/// (another live runner holds it: it and its waiting cases are left to that runner; another
+/// runner finished it meanwhile: its record is taken; or the store failed).
+fn claim_case(
+    store: &Store,
+    opts: &RunOptions,
+    cases: &[Case],
+    i: usize,
+    shared: &Mutex<Shared>,
+    wake: &Condvar,
+) -> Option<stride_model::claim::Claim> {
+    let claimed = store.claim(&cases[i].name).and_then(|c| {
+        let record = store.record(&cases[i].name)?;
+        Ok((c, record))
+    });
+    let mut sh = shared.lock().unwrap_or_else(|e| e.into_inner());
+    let line = match claimed {
+        Ok((Ok(claim), None)) => return Some(claim),
+        Ok((Ok(claim), Some(r))) if opts.retry_failed && r.status != CaseStatus::Converged => {
+            return Some(claim)
+        }
+        Ok((Ok(_), Some(r))) => {
+            let line = format!(
+                "{}: finished by another runner ({})",
+                r.name,
+                r.status.as_str()
+            );
+            sh.records[i] = Some(r);
+            sh.state[i] = State::Done;
+            sh.adopted += 1;
+            line
+        }
+        Ok((Err(holder), _)) => {
+            sh.state[i] = State::Elsewhere;
+            for (j, c) in cases.iter().enumerate().skip(i + 1) {
+                if sh.state[j] == State::Pending
+                    && c.sources.iter().any(|&s| sh.state[s] == State::Elsewhere)
+                {
+                    sh.state[j] = State::Elsewhere;
+                }
+            }
+            format!("{}: left to {holder}, which runs it", cases[i].name)
+        }
+        Err(e) => {
+            sh.error = Some(e);
+            String::new()
+        }
+    };
+    sh.running -= 1;
+    sh.started[i] = None;
+    drop(sh);
+    if let (Some(say), false) = (opts.progress, line.is_empty()) {
+        say(&line);
+    }
+    wake.notify_all();
+    None
 }
 
 /// The source of a continuation case: the closest usable case of its own chain, else the

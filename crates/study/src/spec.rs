@@ -160,6 +160,31 @@ pub struct Study {
     pub source_text: String,
     /// Where it was read from.
     pub path: PathBuf,
+    /// The `[slurm]` table (cluster submission settings; empty when absent).
+    pub slurm: SlurmSection,
+}
+
+/// The `[slurm]` table of a study file: how `stride study --slurm` submits the study as a
+/// Slurm job array. Every key is optional (defaults: the cluster's partition, time and
+/// memory from the cases' estimated needs); the command line overrides each. Values are
+/// checked by the CLI before anything is submitted.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlurmSection {
+    /// Partition (`sbatch --partition`).
+    pub partition: Option<String>,
+    /// Time limit per case, in Slurm's format (`minutes`, `HH:MM:SS`, `D-HH:MM`, …); a
+    /// chain task gets it once per case of its chain.
+    pub time: Option<String>,
+    /// Memory per task (`sbatch --mem`, e.g. `"4G"`).
+    pub mem: Option<String>,
+    /// CPUs per task (`sbatch --cpus-per-task`); also the solver threads of each case.
+    pub cpus_per_task: Option<usize>,
+    /// Array tasks running at once (`--array=…%N`).
+    pub throttle: Option<usize>,
+    /// Further `sbatch` options, each as one argument (e.g. `"--account=gait"`).
+    #[serde(default)]
+    pub extra_args: Vec<String>,
 }
 
 /// Raw file layout (before expansion).
@@ -171,6 +196,8 @@ struct RawFile {
     base: Option<toml::Table>,
     #[serde(default)]
     grid: Option<toml::Table>,
+    #[serde(default)]
+    slurm: SlurmSection,
 }
 
 /// Read, expand and validate a study file.
@@ -522,6 +549,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Study, SpecError> {
         cases,
         source_text: text.to_string(),
         path: path.to_path_buf(),
+        slurm: raw.slurm,
     })
 }
 

@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use stride_model::claim::{Claim, ClaimError, Holder};
 use stride_model::lock::{FileLock, LockError, LockMode};
 use stride_model::result_dir::{self, OutputError, ResultKind};
 use stride_model::storage::write_atomic;
@@ -17,9 +18,13 @@ pub const CASE_RECORD: &str = "case.json";
 /// File holding the hash of the study file an output folder was made from.
 pub const STUDY_HASH: &str = "study.hash";
 /// Lock file of a study output folder: a whole-study run holds it exclusively (its process
-/// id written inside); a runner of single cases would hold it shared, together with an
-/// exclusive lock on the case (`cases/.<case>.lock`).
+/// id written inside); runners of single cases (cluster array tasks) hold it shared, each
+/// with a claim on the case it runs ([`Store::claim`]).
 pub const STUDY_LOCK: &str = ".lock";
+
+/// Folder of the case claim files (`<case>.lock`, [`stride_model::claim`]): a claim file
+/// names the live or last process that ran the case.
+pub const CLAIMS: &str = "claims";
 
 /// Why the output folder could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -183,11 +188,17 @@ pub struct Store {
     /// The folder's lock, held while this store (or a clone) exists; `None` for a
     /// read-only view.
     lock: Option<Arc<FileLock>>,
+    /// Batch job named in this store's case claims (`-`: none).
+    job: String,
 }
 
 /// Take the exclusive lock of the study output folder `root` (which exists).
 pub fn lock_study(root: &Path) -> Result<FileLock, StoreError> {
-    FileLock::try_lock(&root.join(STUDY_LOCK), LockMode::Exclusive).map_err(|e| match e {
+    lock_study_as(root, LockMode::Exclusive)
+}
+
+fn lock_study_as(root: &Path, mode: LockMode) -> Result<FileLock, StoreError> {
+    FileLock::try_lock(&root.join(STUDY_LOCK), mode).map_err(|e| match e {
         LockError::Held { holder, .. } => StoreError::Busy {
             folder: root.display().to_string(),
             holder,
@@ -202,7 +213,14 @@ impl Store {
         Self {
             root: root.to_path_buf(),
             lock: None,
+            job: "-".into(),
         }
+    }
+
+    /// This store, naming `job` (a batch job id such as Slurm's `12345_7`) in its claims.
+    pub fn with_job(mut self, job: &str) -> Self {
+        self.job = job.to_string();
+        self
     }
 
     /// Whether this store holds the folder's lock.
@@ -215,19 +233,41 @@ impl Store {
     /// (the lock is held as long as the store exists), or one made from a different study
     /// file unless `force`; then remove the temporary folders of killed runs.
     pub fn open(root: &Path, study: &Study, force: bool) -> Result<Self, StoreError> {
+        Self::open_as(root, study, force, LockMode::Exclusive)
+    }
+
+    /// [`Store::open`] for one of many runners of single cases working in the folder at
+    /// once (cluster array tasks, possibly on several hosts): the folder's lock is shared
+    /// (refused only while a whole-study run holds it), each case is claimed before it
+    /// runs ([`Store::claim`]), and only this host's dead processes' temporary files are
+    /// removed.
+    pub fn open_shared(root: &Path, study: &Study, force: bool) -> Result<Self, StoreError> {
+        Self::open_as(root, study, force, LockMode::Shared)
+    }
+
+    fn open_as(
+        root: &Path,
+        study: &Study,
+        force: bool,
+        mode: LockMode,
+    ) -> Result<Self, StoreError> {
         result_dir::inspect(root, ResultKind::Study)?;
         result_dir::check_writable(root)?;
         let cases = root.join("cases");
         std::fs::create_dir_all(&cases).map_err(|e| io_err(&cases, e))?;
-        let lock = lock_study(root)?;
+        let claims = root.join(CLAIMS);
+        std::fs::create_dir_all(&claims).map_err(|e| io_err(&claims, e))?;
+        let lock = lock_study_as(root, mode)?;
         let hash = fnv1a64(study.source_text.as_bytes());
         let hash_file = root.join(STUDY_HASH);
-        if let Ok(found) = std::fs::read_to_string(&hash_file) {
-            let found = found.trim().to_string();
-            if found != hash && !force {
+        let found = std::fs::read_to_string(&hash_file)
+            .ok()
+            .map(|f| f.trim().to_string());
+        if let Some(found) = &found {
+            if *found != hash && !force {
                 return Err(StoreError::OtherStudy {
                     folder: root.display().to_string(),
-                    found,
+                    found: found.clone(),
                     expected: hash,
                 });
             }
@@ -235,25 +275,55 @@ impl Store {
         let store = Self {
             root: root.to_path_buf(),
             lock: Some(Arc::new(lock)),
+            job: "-".into(),
         };
-        result_dir::write_marker(root, ResultKind::Study).map_err(|e| io_err(root, e))?;
-        write_atomic(&hash_file, format!("{hash}\n").as_bytes())
-            .map_err(|e| io_err(&hash_file, e))?;
+        // Shared openers write the same files (atomically): only when something differs.
         let copy = root.join("study.toml");
-        write_atomic(&copy, study.source_text.as_bytes()).map_err(|e| io_err(&copy, e))?;
-        // Temporary files and case folders of killed runs (no other run can be in flight:
-        // this one holds the lock).
+        let same_copy = std::fs::read_to_string(&copy).is_ok_and(|t| t == study.source_text);
+        if mode == LockMode::Exclusive
+            || found.as_deref() != Some(hash.as_str())
+            || !same_copy
+            || result_dir::marker_kind(root).is_none()
+        {
+            result_dir::write_marker(root, ResultKind::Study).map_err(|e| io_err(root, e))?;
+            write_atomic(&hash_file, format!("{hash}\n").as_bytes())
+                .map_err(|e| io_err(&hash_file, e))?;
+            write_atomic(&copy, study.source_text.as_bytes()).map_err(|e| io_err(&copy, e))?;
+        }
+        // Temporary files and case folders of killed runs: of this host's dead processes;
+        // with the exclusive lock no other run can be in flight, so all of them.
         result_dir::clean_stale(root);
         result_dir::clean_stale(&cases);
-        if let Ok(rd) = std::fs::read_dir(&cases) {
-            for e in rd.flatten() {
-                let n = e.file_name().to_string_lossy().to_string();
-                if n.starts_with(".tmp-") || (n.starts_with('.') && n.contains(".partial-")) {
-                    let _ = std::fs::remove_dir_all(e.path());
+        if mode == LockMode::Exclusive {
+            if let Ok(rd) = std::fs::read_dir(&cases) {
+                for e in rd.flatten() {
+                    let n = e.file_name().to_string_lossy().to_string();
+                    if n.starts_with(".tmp-") || (n.starts_with('.') && n.contains(".partial-")) {
+                        let _ = std::fs::remove_dir_all(e.path());
+                    }
                 }
             }
         }
         Ok(store)
+    }
+
+    /// Claim file of a case (`claims/<name>.lock`).
+    pub fn claim_path(&self, name: &str) -> PathBuf {
+        self.root.join(CLAIMS).join(format!("{name}.lock"))
+    }
+
+    /// Claim case `name` for this process before running it: `Ok(Err(holder))` when a live
+    /// process (here or on another host) has it. The claim holder removes what killed runs
+    /// of the case left (staging folders of any host).
+    pub fn claim(&self, name: &str) -> Result<Result<Claim, Holder>, StoreError> {
+        match Claim::try_take(&self.claim_path(name), &self.job) {
+            Ok(c) => {
+                result_dir::clean_staging_of(&self.cases_dir(), name);
+                Ok(Ok(c))
+            }
+            Err(ClaimError::Held { holder, .. }) => Ok(Err(holder)),
+            Err(ClaimError::Io { path, reason }) => Err(StoreError::Io { path, reason }),
+        }
     }
 
     /// Folder of finished cases.
@@ -266,7 +336,7 @@ impl Store {
         self.cases_dir().join(name)
     }
 
-    /// A fresh staging folder for a case in flight (`cases/.<name>.partial-<pid>`), into
+    /// A fresh staging folder for a case in flight (`cases/.<name>.partial-<host>-<pid>`), into
     /// which the case's result files are written once.
     pub fn temp_dir(&self, name: &str) -> Result<PathBuf, StoreError> {
         let dst = self.case_dir(name);

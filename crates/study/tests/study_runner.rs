@@ -453,3 +453,102 @@ fn a_bad_case_is_reported_before_anything_is_written() {
     assert!(e.to_string().contains("`activation_min`"), "{e}");
     assert!(!out.exists());
 }
+
+#[test]
+fn single_case_runners_share_the_folder_and_leave_cases_claimed_elsewhere() {
+    let out = temp("shared");
+    let study = spec::parse(SMALL, Path::new("small.toml")).unwrap();
+    let a = Store::open_shared(&out, &study, false).unwrap();
+    let b = Store::open_shared(&out, &study, false).unwrap();
+    assert!(matches!(
+        Store::open(&out, &study, false),
+        Err(StoreError::Busy { .. })
+    ));
+    let idx = |n: &str| study.cases.iter().position(|c| c.name == n).unwrap();
+    // another host runs the DI-walking anchor; a killed task of a third host left a
+    // staging folder of the quasi-random anchor
+    std::fs::write(
+        a.claim_path("speed_1.33__nominal__diw"),
+        "elsewhere 1 9_1 0\n",
+    )
+    .unwrap();
+    let stale = out.join("cases/.speed_1.33__nominal__qr.partial-gone-77");
+    std::fs::create_dir_all(&stale).unwrap();
+    let mut mask = vec![false; study.cases.len()];
+    for n in [
+        "speed_1.33__nominal__qr",
+        "speed_1.33__nominal__diw",
+        "speed_1.23__nominal__fos",
+        "speed_1.13__nominal__fos",
+    ] {
+        mask[idx(n)] = true;
+    }
+    let fake = Fake::new();
+    let only = RunOptions {
+        only: Some(mask.clone()),
+        ..opts(1)
+    };
+    let s = run_study(&study, &a, &fake, &only).unwrap();
+    assert_eq!((s.ran, s.elsewhere), (1, 3), "{s:?}");
+    assert!(
+        !stale.exists(),
+        "the claim holder removes the case's staging folders"
+    );
+    assert!(a.record("speed_1.33__nominal__qr").unwrap().is_some());
+    // the other host's claim goes stale: a second runner takes the rest, the finished case
+    // is not run again
+    let old = std::time::SystemTime::now() - Duration::from_secs(600);
+    std::fs::File::options()
+        .write(true)
+        .open(a.claim_path("speed_1.33__nominal__diw"))
+        .unwrap()
+        .set_modified(old)
+        .unwrap();
+    let fake = Fake::new();
+    let s = run_study(&study, &b, &fake, &only).unwrap();
+    assert_eq!((s.ran, s.elsewhere), (3, 0), "{s:?}");
+    let calls: Vec<String> = fake
+        .calls
+        .lock()
+        .unwrap()
+        .iter()
+        .map(|c| c.0.clone())
+        .collect();
+    assert!(!calls.contains(&"speed_1.33__nominal__qr".to_string()));
+    let index = std::fs::read_to_string(out.join("index.csv")).unwrap();
+    assert_eq!(index.matches(",converged,").count(), 4, "{index}");
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn a_study_is_planned_as_waves_of_tasks_with_each_chain_in_one_task() {
+    let study = spec::parse(SMALL, Path::new("small.toml")).unwrap();
+    let waves = stride_study::tasks::plan(&study.cases, &|_| true);
+    assert_eq!(waves.len(), 2);
+    let mut seen = vec![0; study.cases.len()];
+    for (w, tasks) in waves.iter().enumerate() {
+        for t in tasks {
+            assert!(t.windows(2).all(|p| p[0] < p[1]), "study order in a task");
+            for &i in t {
+                seen[i] += 1;
+                assert_eq!(w > 0, study.cases[i].guess.is_continuation());
+            }
+            if w == 0 {
+                assert_eq!(t.len(), 1);
+            }
+        }
+    }
+    assert!(seen.iter().all(|&n| n == 1));
+    let task_of = |n: &str| {
+        let i = study.cases.iter().position(|c| c.name == n).unwrap();
+        waves[1].iter().position(|t| t.contains(&i)).unwrap()
+    };
+    assert_eq!(
+        task_of("speed_1.13__nominal__fos"),
+        task_of("speed_1.23__nominal__fos")
+    );
+    assert_ne!(
+        task_of("speed_1.13__nominal__fos"),
+        task_of("speed_1.13__hip50__fos")
+    );
+}
