@@ -550,7 +550,8 @@ pub enum CoordinateForceLaw {
 }
 
 /// Passive joint torque of one coordinate:
-/// `T = k1 exp(k2 (q − θ2)) + k3 exp(k4 (q − θ1)) − damping · q̇` [N m].
+/// `T = k1 exp(k2 (q − θ2)) + k3 exp(k4 (q − θ1)) − stiffness (q − rest) − damping · q̇`
+/// [N m]; the exponential terms are the limit torque.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PassiveJointTorque {
     /// The coordinate.
@@ -561,6 +562,19 @@ pub struct PassiveJointTorque {
     pub theta: [f64; 2],
     /// Linear damping [N m s rad⁻¹].
     pub damping: f64,
+    /// Linear stiffness [N m rad⁻¹] about `rest` (0: none).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub stiffness: f64,
+    /// Angle at which the linear spring is relaxed [rad].
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rest: f64,
+}
+
+impl PassiveJointTorque {
+    /// Whether the element has a limit torque (a non-zero exponential term).
+    pub fn has_limit(&self) -> bool {
+        self.k[0] != 0.0 || self.k[2] != 0.0
+    }
 }
 
 /// An element of the source file that the importer did not turn into model data.

@@ -241,6 +241,8 @@ pub fn add_passive_torques(model: &mut Model, path: &Path) -> Result<usize, Refe
                     k,
                     theta,
                     damping,
+                    stiffness: 0.0,
+                    rest: 0.0,
                 });
             }
         }
@@ -265,6 +267,8 @@ pub fn add_passive_torques(model: &mut Model, path: &Path) -> Result<usize, Refe
                 k: [0.0; 4],
                 theta: [0.0; 2],
                 damping: arm_damping,
+                stiffness: 0.0,
+                rest: 0.0,
             });
         }
     }

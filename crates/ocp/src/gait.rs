@@ -33,6 +33,8 @@ pub struct GaitCoordinate {
     pub motion_type: MotionType,
     /// Index in `Model::passive_torques`, if the coordinate has a passive torque.
     pub passive: Option<usize>,
+    /// Range of the coordinate in the model file `[min, max]` [rad or m].
+    pub range: [f64; 2],
 }
 
 /// The gait view of a model (problem order of coordinates and muscles, mirror maps).
@@ -172,6 +174,7 @@ impl GaitModel {
                         .passive_torques
                         .iter()
                         .position(|p| p.coordinate == ci),
+                    range: c.range,
                 });
             }
         }

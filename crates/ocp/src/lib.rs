@@ -3,6 +3,8 @@
 //! - [`settings`]: every option of a prediction (study-file schema), paper defaults.
 //! - [`size`]: NLP size and peak memory of a solve, estimated before building it.
 //! - [`gait`]: the gait view of a model (coordinate roles, mirror maps).
+//! - [`bounds_model`], [`passive_rules`]: bounds and passive torques of a model from the
+//!   model alone (PredSim's rules).
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
 //! - [`outputs`]: the files of a result folder (OpenSim files, tables).
@@ -11,6 +13,7 @@
 
 pub mod bench;
 pub mod bounds;
+pub mod bounds_model;
 pub mod data;
 pub mod experimental;
 pub mod figures;
@@ -21,6 +24,7 @@ pub mod layout;
 pub mod measures;
 pub mod node;
 pub mod outputs;
+pub mod passive_rules;
 pub mod predict;
 pub mod problem;
 pub mod radau;

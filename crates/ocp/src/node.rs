@@ -34,6 +34,14 @@ pub struct NodeModel {
     prosthetic: Vec<Option<f64>>,
     /// Problem indices of the actuator-driven coordinates.
     actuator_driven: Vec<usize>,
+    /// Per actuator-driven coordinate: its passive torque element when that has a limit
+    /// torque (else the arm damping applies).
+    actuator_passive: Vec<Option<usize>>,
+    /// Per actuator-driven coordinate: optimal force / arm torque scale (1 for 150 N m).
+    actuator_gain: Vec<f64>,
+    /// The passive-torque cost counts only limit torques (PredSim) instead of the whole
+    /// passive torques.
+    limit_only_cost: bool,
     /// Per muscle-driven coordinate: (problem muscle, flat moment-arm index); removed
     /// muscles have no terms.
     torque_terms: Vec<Vec<(usize, usize)>>,
@@ -162,6 +170,11 @@ impl NodeModel {
             .map(|&(i, _)| {
                 let c = g.coordinates[i].model_index;
                 let mut terms = Vec::new();
+                if p.settings.passive.toes == crate::passive_rules::ToeDrive::Passive
+                    && crate::passive_rules::is_toe(&g.coordinates[i].name)
+                {
+                    return terms;
+                }
                 for (mi, om) in ocp_of_model.iter().enumerate() {
                     let poly = paths.polynomial(mi);
                     if let (Some(om), Some(k)) =
@@ -201,7 +214,29 @@ impl NodeModel {
             ));
         }
         let s = &p.scaling;
+        let actuator_passive = g
+            .actuator_driven()
+            .into_iter()
+            .map(|i| {
+                g.coordinates[i]
+                    .passive
+                    .filter(|&pi| model.passive_torques[pi].has_limit())
+            })
+            .collect();
+        let actuator_gain = g
+            .actuator_driven()
+            .into_iter()
+            .map(|i| match g.coordinates[i].actuation {
+                crate::gait::Actuation::Actuator(a) => {
+                    model.actuators[a].optimal_force / s.arm_torque
+                }
+                _ => 1.0,
+            })
+            .collect();
         Ok(Self {
+            actuator_passive,
+            actuator_gain,
+            limit_only_cost: p.passive_cost_limit_only,
             inputs,
             coord_model: g.coordinates.iter().map(|c| c.model_index).collect(),
             locked: g.locked.clone(),
@@ -388,7 +423,15 @@ impl NodeModel {
                 ),
                 (None, None) => T::zero(),
             };
-            if self.prosthetic[t].is_none() {
+            if self.limit_only_cost {
+                if let Some(pi) = passive.filter(|&pi| self.model.passive_torques[pi].has_limit()) {
+                    let tl = stride_muscle::passive::limit_torque(
+                        &self.model.passive_torques[pi],
+                        ws.q[c],
+                    );
+                    sum_tp2 += tl * tl;
+                }
+            } else if self.prosthetic[t].is_none() {
                 sum_tp2 += tp * tp;
             }
             y[out] = tau[c] - (muscle + tp);
@@ -398,9 +441,24 @@ impl NodeModel {
         let mut sum_arm_acc2 = T::zero();
         for (k, &i) in self.actuator_driven.iter().enumerate() {
             let c = self.coord_model[i];
-            let tp = -ws.v[c] * ARM_DAMPING;
-            sum_tp2 += tp * tp;
-            y[out] = tau[c] / self.s_arm - (x[io.arm() + k] + tp / self.s_arm);
+            let (tp, limit) = match self.actuator_passive[k] {
+                Some(pi) => {
+                    let e = &self.model.passive_torques[pi];
+                    let tp = stride_muscle::passive::passive_torque(e, ws.q[c], ws.v[c]);
+                    (tp, Some(stride_muscle::passive::limit_torque(e, ws.q[c])))
+                }
+                None => (-ws.v[c] * ARM_DAMPING, None),
+            };
+            match (self.limit_only_cost, limit) {
+                (false, _) => sum_tp2 += tp * tp,
+                (true, Some(tl)) => sum_tp2 += tl * tl,
+                (true, None) => {}
+            }
+            let torque = match self.actuator_gain[k] {
+                g if g == 1.0 => x[io.arm() + k],
+                g => x[io.arm() + k] * g,
+            };
+            y[out] = tau[c] / self.s_arm - (torque + tp / self.s_arm);
             out += 1;
             sum_e_arm2 += x[io.e_arm() + k].sq();
             sum_arm_acc2 += x[io.qdd() + i].sq();
@@ -443,8 +501,12 @@ impl NodeModel {
         let n_kept = self.removed.iter().filter(|&&r| !r).count().max(1) as f64;
         let na = self.actuator_driven.len().max(1) as f64;
         let n_prosthetic = self.prosthetic.iter().filter(|k| k.is_some()).count();
-        let n_tp =
-            (self.muscle_driven.len() + self.actuator_driven.len() - n_prosthetic).max(1) as f64;
+        let n_tp = if self.limit_only_cost {
+            self.n_limit_torques()
+        } else {
+            self.muscle_driven.len() + self.actuator_driven.len() - n_prosthetic
+        }
+        .max(1) as f64;
         let mut l = sum_a2 * (w.activation / n_kept)
             + sum_acc2 * (w.acceleration / n_acc.max(1) as f64)
             + sum_tp2 * (w.passive_torque / n_tp)
@@ -484,6 +546,14 @@ pub struct SampleOutputs {
 }
 
 impl NodeModel {
+    /// Number of driven coordinates with a limit torque (the passive-torque cost terms of
+    /// PredSim).
+    fn n_limit_torques(&self) -> usize {
+        let has = |p: Option<usize>| p.is_some_and(|pi| self.model.passive_torques[pi].has_limit());
+        self.muscle_driven.iter().filter(|(_, p)| has(*p)).count()
+            + self.actuator_passive.iter().filter(|p| has(**p)).count()
+    }
+
     /// Evaluate the node function on `f64` and collect the physical quantities.
     pub fn sample(&self, ws: &mut NodeWorkspace<f64>, x: &[f64]) -> SampleOutputs {
         let mut y = vec![0.0; self.n_outputs()];
@@ -544,8 +614,16 @@ impl NodeModel {
                 );
             }
         }
-        for &i in &self.actuator_driven {
-            out.passive[i] = -ws.v[self.coord_model[i]] * ARM_DAMPING;
+        for (k, &i) in self.actuator_driven.iter().enumerate() {
+            let c = self.coord_model[i];
+            out.passive[i] = match self.actuator_passive[k] {
+                Some(pi) => stride_muscle::passive::passive_torque(
+                    &self.model.passive_torques[pi],
+                    ws.q[c],
+                    ws.v[c],
+                ),
+                None => -ws.v[c] * ARM_DAMPING,
+            };
         }
         out
     }

@@ -5,6 +5,7 @@ use crate::bounds::CoordinateBounds;
 use crate::experimental::Kinematics;
 use crate::gait::{GaitModel, GaitModelError};
 use crate::layout::{Layout, Point};
+use crate::passive_rules::PassiveCost;
 use crate::settings::{CycleKind, ProblemSettings, PROSTHESIS_BODIES, PROSTHESIS_REMOVED_MUSCLES};
 use stride_model::Model;
 
@@ -173,6 +174,9 @@ pub struct GaitProblem {
     pub scaling: Scaling,
     /// Body mass used in the cost, %BW and the cost of transport [kg].
     pub body_mass: f64,
+    /// Whether the passive-torque cost counts only the limit torques (PredSim) rather
+    /// than the whole passive torques (the 2019 formulation).
+    pub passive_cost_limit_only: bool,
 }
 
 impl GaitProblem {
@@ -209,8 +213,18 @@ impl GaitProblem {
         if let Some(p) = &settings.prosthesis {
             apply_prosthesis(&mut model, p)?;
         }
-        let gait = GaitModel::new(&model)?;
-        let data = Kinematics::from_storage(bounds_data, &gait, "bounds kinematics")?;
+        let mut gait = GaitModel::new(&model)?;
+        let generated = crate::passive_rules::apply(&mut model, &gait, &settings.passive)
+            .map_err(|e| ProblemError::Model(e.to_string()))?;
+        if generated || !settings.passive.coordinates.is_empty() {
+            gait = GaitModel::new(&model)?;
+        }
+        let passive_cost_limit_only = match settings.passive.cost {
+            PassiveCost::Auto => generated,
+            PassiveCost::Total => false,
+            PassiveCost::Limit => true,
+        };
+        let data = Kinematics::matching(bounds_data, &gait, "bounds kinematics")?;
         let bounds = CoordinateBounds::new(&gait, &data, settings)?;
         let scaling = Scaling::new(&bounds);
         let na = gait.actuator_driven().len();
@@ -224,6 +238,7 @@ impl GaitProblem {
             bounds,
             scaling,
             body_mass,
+            passive_cost_limit_only,
         })
     }
 

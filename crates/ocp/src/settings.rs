@@ -44,6 +44,9 @@ pub struct ProblemSettings {
     /// Passive transtibial prosthesis on the right leg (FORMULATION 12.1); needs
     /// `cycle = "full-periodic"`.
     pub prosthesis: Option<Prosthesis>,
+    /// Passive joint torques of models without a passive torque table, springs and
+    /// damping of selected coordinates, and how the toes are driven.
+    pub passive: crate::passive_rules::PassiveSettings,
 }
 
 /// Default half-width of the friction law's smoothed transition at v_slip = v_t (a
@@ -148,6 +151,7 @@ impl Default for ProblemSettings {
             transcription: TranscriptionVariant::V2,
             min_distances: paper_distances(),
             prosthesis: None,
+            passive: Default::default(),
         }
     }
 }
@@ -341,6 +345,7 @@ impl ProblemSettings {
         }
         self.validate_strength()?;
         self.validate_prosthesis()?;
+        self.validate_passive()?;
         for (i, d) in self.min_distances.iter().enumerate() {
             check(
                 within(d.min, 0.0, 10.0) && within(d.max, 0.0, 10.0) && d.max > d.min,
@@ -398,6 +403,33 @@ impl ProblemSettings {
                     g,
                     "known groups: hip, plantarflexors",
                 )?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_passive(&self) -> Result<(), SettingsError> {
+        let p = &self.passive;
+        check(
+            within(p.damping, 0.0, 1e4),
+            "passive.damping",
+            p.damping,
+            "must lie in [0, 1e4] N m s/rad",
+        )?;
+        for (i, c) in p.coordinates.iter().enumerate() {
+            for (k, v, lo, hi) in [
+                ("stiffness", c.stiffness, 0.0, 1e5),
+                ("damping", c.damping, 0.0, 1e4),
+                ("rest", c.rest, -10.0, 10.0),
+            ] {
+                if let Some(v) = v {
+                    check(
+                        within(v, lo, hi),
+                        &format!("passive.coordinates[{i}].{k}"),
+                        v,
+                        &format!("must lie in [{lo}, {hi}]"),
+                    )?;
+                }
             }
         }
         Ok(())
