@@ -1,10 +1,12 @@
-//! The model of a prediction: the built-in model, or an OpenSim model with its fitted
-//! muscle geometry — an explicit geometry file, or the per-user cache keyed by the model
-//! file's content (fitted on first use).
+//! The model of a prediction: the built-in model, or an OpenSim model with its settings
+//! file (`--model-settings`, else `<model>.toml` beside it, else the defaults) and its
+//! fitted muscle geometry — an explicit geometry file, the settings file's `geometry`, or
+//! the per-user cache keyed by the model file's content (fitted on first use).
 
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 use stride_geometry::{cached_geometry, FitSettings, GeometryFile, GeometrySource};
+use stride_model::model_settings::ModelSettings;
 use stride_model::Model;
 
 /// The per-user cache folder of fitted geometry: `$XDG_CACHE_HOME/stride`, else
@@ -17,14 +19,22 @@ pub(crate) fn cache_dir() -> Option<PathBuf> {
     Some(base.join("stride"))
 }
 
-/// Loads `model` (default: the built-in model) with the muscle geometry of `geometry`
-/// when given, else (for an `.osim`) from the cache, fitting and caching it on first use.
+/// Loads `model` (default: the built-in model) with its settings file (`settings`, else
+/// the one beside it) and the muscle geometry of `geometry` when given, else the settings
+/// file's, else (for an `.osim`) from the cache, fitting and caching it on first use.
 pub(crate) fn load_model(
     model: Option<&Path>,
+    settings: Option<&Path>,
     geometry: Option<&Path>,
     quiet: bool,
 ) -> anyhow::Result<Model> {
     let Some(path) = model else {
+        if let Some(s) = settings {
+            anyhow::bail!(
+                "{}: a model settings file needs a model (--model)",
+                s.display()
+            );
+        }
         let mut m = stride_model::default_model::default_model();
         if let Some(g) = geometry {
             GeometryFile::read(g)?.apply(&mut m)?;
@@ -43,7 +53,22 @@ pub(crate) fn load_model(
     let bytes = std::fs::read(path).with_context(|| format!("reading model {}", path.display()))?;
     let text = String::from_utf8_lossy(&bytes);
     let mut m = stride_model::osim::parse_osim(&text, &path.display().to_string())?;
-    let file = match geometry {
+    let settings_file = settings
+        .map(Path::to_path_buf)
+        .or_else(|| ModelSettings::beside(path));
+    let model_settings = match &settings_file {
+        Some(f) => {
+            let s = ModelSettings::read(f)?;
+            s.apply(&mut m, &f.display().to_string())?;
+            s
+        }
+        None => {
+            let s = ModelSettings::default();
+            s.apply(&mut m, "default model settings")?;
+            s
+        }
+    };
+    let file = match geometry.or(model_settings.geometry.as_deref()) {
         Some(g) => GeometryFile::read(g)?,
         None => {
             let dir = cache_dir().context(

@@ -59,6 +59,10 @@ pub struct Model {
     /// it); `None` for the built-in model and for models built in code.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub source_file: Option<std::path::PathBuf>,
+    /// Bounds on the horizontal distances between body origins that a gait problem keeps
+    /// (anti-clipping constraints, from the model's settings file).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub distance_constraints: Vec<crate::model_settings::DistanceConstraint>,
 }
 
 /// A rigid body.
@@ -381,8 +385,9 @@ pub struct PathWrap {
 }
 
 /// Parameters of the smooth Hunt–Crossley sphere–plane contact (OpenSim
-/// `SmoothSphereHalfSpaceForce`).
+/// `SmoothSphereHalfSpaceForce`). Fields left out of a file take the paper's values.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct ContactParameters {
     /// Plane-strain modulus E [N m⁻²].
     pub stiffness: f64,
@@ -603,6 +608,7 @@ impl Default for Model {
             couplers: Vec::new(),
             coordinate_forces: Vec::new(),
             source_file: None,
+            distance_constraints: Vec::new(),
         }
     }
 }

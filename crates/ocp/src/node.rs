@@ -187,7 +187,8 @@ impl NodeModel {
             })
             .collect();
         let mut distances = Vec::new();
-        for d in &p.settings.min_distances {
+        let listed = p.settings.min_distances.as_ref();
+        for d in listed.unwrap_or(&model.distance_constraints) {
             let body = |n: &str| {
                 model
                     .body_index(n)
