@@ -26,6 +26,10 @@ pub enum ModelCommand {
         /// Output file.
         #[arg(long, default_value = "crates/model/data/default_model.json")]
         out: PathBuf,
+        /// Folder of the shipped `subject1` import: `subject1_v2.osim`, its settings file
+        /// and the paper's polynomial geometry as a geometry file.
+        #[arg(long, default_value = "crates/model/data/models/subject1")]
+        models: PathBuf,
     },
     /// Fit polynomial muscle-tendon geometry to the path points of an `.osim` file and print the accuracy table.
     Fit(crate::fit_cmd::FitArgs),
@@ -45,14 +49,20 @@ pub fn run(cmd: ModelCommand) -> anyhow::Result<()> {
             print!("{}", stride_model::inspect::render(&model));
             Ok(())
         }
-        ModelCommand::BuildDefault { reference, out } => {
+        ModelCommand::BuildDefault {
+            reference,
+            out,
+            models,
+        } => {
             let model = build_default_model(&reference)?;
+            crate::build_default::write_subject1(&model, &reference, &models)?;
             let text = default_model_json(&model)?;
             write_atomic(&out, text.as_bytes())
                 .with_context(|| format!("writing {}", out.display()))?;
             println!(
-                "wrote {} ({} bytes): {} coordinates, {} muscles, {} contacts, {} passive torques, {} actuators",
+                "wrote {} and the subject1 import in {} ({} bytes): {} coordinates, {} muscles, {} contacts, {} passive torques, {} actuators",
                 out.display(),
+                models.display(),
                 text.len(),
                 model.coordinates.len(),
                 model.muscles.len(),

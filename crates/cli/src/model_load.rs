@@ -1,12 +1,14 @@
-//! The model of a prediction: the built-in model, or an OpenSim model with its settings
-//! file (`--model-settings`, else `<model>.toml` beside it, else the defaults) and its
-//! fitted muscle geometry — an explicit geometry file, the settings file's `geometry`, or
-//! the per-user cache keyed by the model file's content (fitted on first use).
+//! The model of a prediction: the built-in model, a model shipped with stride (by name:
+//! `falisse2022`, …), or an OpenSim model file with its settings file (`--model-settings`,
+//! else `<model>.toml` beside it, else the defaults) and its fitted muscle geometry — an
+//! explicit geometry file, the settings file's `geometry`, or the per-user cache keyed by
+//! the model file's content (fitted on first use).
 
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 use stride_geometry::{cached_geometry, FitSettings, GeometryFile, GeometrySource};
 use stride_model::model_settings::ModelSettings;
+use stride_model::shipped::{shipped, ShippedModel, SHIPPED};
 use stride_model::Model;
 
 /// The per-user cache folder of fitted geometry: `$XDG_CACHE_HOME/stride`, else
@@ -19,9 +21,15 @@ pub(crate) fn cache_dir() -> Option<PathBuf> {
     Some(base.join("stride"))
 }
 
-/// Loads `model` (default: the built-in model) with its settings file (`settings`, else
-/// the one beside it) and the muscle geometry of `geometry` when given, else the settings
-/// file's, else (for an `.osim`) from the cache, fitting and caching it on first use.
+/// The names of the shipped models, for messages.
+fn shipped_names() -> String {
+    SHIPPED.map(|s| s.name).join(", ")
+}
+
+/// Loads `model` (default: the built-in model; a shipped model's name; or an `.osim`
+/// file) with its settings file (`settings`, else the one beside it or shipped with it)
+/// and the muscle geometry of `geometry` when given, else the settings file's, else the
+/// shipped one, else (for an `.osim`) from the cache, fitting and caching it on first use.
 pub(crate) fn load_model(
     model: Option<&Path>,
     settings: Option<&Path>,
@@ -29,11 +37,9 @@ pub(crate) fn load_model(
     quiet: bool,
 ) -> anyhow::Result<Model> {
     let Some(path) = model else {
-        if let Some(s) = settings {
-            anyhow::bail!(
-                "{}: a model settings file needs a model (--model)",
-                s.display()
-            );
+        if settings.is_some() {
+            let subject1 = shipped("subject1").context("the built-in model is not shipped")?;
+            return load_shipped(subject1, settings, geometry);
         }
         let mut m = stride_model::default_model::default_model();
         if let Some(g) = geometry {
@@ -41,6 +47,17 @@ pub(crate) fn load_model(
         }
         return Ok(m);
     };
+    if let Some(s) = as_name(path) {
+        if !path.exists() {
+            let s = shipped(s).with_context(|| {
+                format!(
+                    "model `{s}`: no such file, and not a shipped model ({})",
+                    shipped_names()
+                )
+            })?;
+            return load_shipped(s, settings, geometry);
+        }
+    }
     if path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
@@ -50,60 +67,105 @@ pub(crate) fn load_model(
             path.display()
         );
     }
+    load_file(path, settings, geometry, quiet)
+}
+
+/// `path` as a bare model name (one component, no extension), if it is one.
+fn as_name(path: &Path) -> Option<&str> {
+    let s = path.to_str()?;
+    (path.components().count() == 1 && path.extension().is_none()).then_some(s)
+}
+
+/// A shipped model: its embedded `.osim`, settings (or `settings`) and geometry (or
+/// `geometry`, or the settings file's).
+fn load_shipped(
+    s: &ShippedModel,
+    settings: Option<&Path>,
+    geometry: Option<&Path>,
+) -> anyhow::Result<Model> {
+    let mut m = stride_model::osim::parse_osim(s.osim, s.file_name)?;
+    let geometry = match settings {
+        Some(f) => {
+            let ms = ModelSettings::read(f)?;
+            ms.apply(&mut m, &f.display().to_string())?;
+            geometry.map(Path::to_path_buf).or(ms.geometry)
+        }
+        None => {
+            let name = format!("{} (shipped settings of {})", s.file_name, s.name);
+            ModelSettings::parse(s.settings, &name)?.apply(&mut m, &name)?;
+            geometry.map(Path::to_path_buf)
+        }
+    };
+    let file = match geometry {
+        Some(g) => GeometryFile::read(&g)?,
+        None => GeometryFile::parse(s.geometry, &format!("geometry of {}", s.name))?,
+    };
+    file.apply(&mut m)?;
+    Ok(m)
+}
+
+/// An `.osim` file with its settings and geometry.
+fn load_file(
+    path: &Path,
+    settings: Option<&Path>,
+    geometry: Option<&Path>,
+    quiet: bool,
+) -> anyhow::Result<Model> {
     let bytes = std::fs::read(path).with_context(|| format!("reading model {}", path.display()))?;
     let text = String::from_utf8_lossy(&bytes);
     let mut m = stride_model::osim::parse_osim(&text, &path.display().to_string())?;
+    m.source_file = Some(path.to_path_buf());
     let settings_file = settings
         .map(Path::to_path_buf)
         .or_else(|| ModelSettings::beside(path));
     let model_settings = match &settings_file {
         Some(f) => {
-            let s = ModelSettings::read(f)?;
-            s.apply(&mut m, &f.display().to_string())?;
-            s
+            if !quiet && settings.is_none() {
+                eprintln!("model settings of {}: {}", path.display(), f.display());
+            }
+            ModelSettings::read(f)?
         }
-        None => {
-            let s = ModelSettings::default();
-            s.apply(&mut m, "default model settings")?;
-            s
-        }
+        None => ModelSettings::default(),
     };
+    let source = settings_file.map_or("default model settings".into(), |f| f.display().to_string());
+    model_settings.apply(&mut m, &source)?;
     let file = match geometry.or(model_settings.geometry.as_deref()) {
         Some(g) => GeometryFile::read(g)?,
-        None => {
-            let dir = cache_dir().context(
-                "no cache folder for the fitted muscle geometry (set XDG_CACHE_HOME or HOME, or pass --geometry)",
-            )?;
-            if !quiet {
-                eprintln!(
-                    "muscle geometry of {}: looking in {}",
-                    path.display(),
-                    dir.display()
-                );
-            }
-            let (file, source) = cached_geometry(&m, &bytes, &dir, &FitSettings::default())?;
-            if !quiet {
-                match source {
-                    GeometrySource::Cached(p) => {
-                        eprintln!("  using the cached fit {}", p.display())
-                    }
-                    GeometrySource::Fitted(p) => {
-                        eprintln!("  fitted on first use, cached as {}", p.display())
-                    }
-                }
-                for a in file.accuracy.iter().filter(|a| !a.meets_tolerance) {
-                    eprintln!(
-                        "  warning: muscle {} misses the {:.1} mm target: RMS length error {:.2} mm, largest RMS moment-arm error {:.2} mm",
-                        a.muscle,
-                        file.settings.tolerance * 1e3,
-                        a.rms_length_mm,
-                        a.max_rms_moment_arm_mm
-                    );
-                }
-            }
-            file
-        }
+        None => cached_fit(&m, path, &bytes, quiet)?,
     };
     file.apply(&mut m)?;
     Ok(m)
+}
+
+/// The cached fit of the model file `path` (content `bytes`), fitted on first use.
+fn cached_fit(m: &Model, path: &Path, bytes: &[u8], quiet: bool) -> anyhow::Result<GeometryFile> {
+    let dir = cache_dir().context(
+        "no cache folder for the fitted muscle geometry (set XDG_CACHE_HOME or HOME, or pass --geometry)",
+    )?;
+    if !quiet {
+        eprintln!(
+            "muscle geometry of {}: looking in {}",
+            path.display(),
+            dir.display()
+        );
+    }
+    let (file, source) = cached_geometry(m, bytes, &dir, &FitSettings::default())?;
+    if !quiet {
+        match source {
+            GeometrySource::Cached(p) => eprintln!("  using the cached fit {}", p.display()),
+            GeometrySource::Fitted(p) => {
+                eprintln!("  fitted on first use, cached as {}", p.display())
+            }
+        }
+        for a in file.accuracy.iter().filter(|a| !a.meets_tolerance) {
+            eprintln!(
+                "  warning: muscle {} misses the {:.1} mm target: RMS length error {:.2} mm, largest RMS moment-arm error {:.2} mm",
+                a.muscle,
+                file.settings.tolerance * 1e3,
+                a.rms_length_mm,
+                a.max_rms_moment_arm_mm
+            );
+        }
+    }
+    Ok(file)
 }

@@ -110,6 +110,7 @@ pub fn build_default_model(reference_dir: &Path) -> Result<Model, DefaultModelEr
     expect("muscles with polynomial geometry", n, 92)?;
     let n = reference::add_arm_actuators(&mut m);
     expect("arm actuators", n, 8)?;
+    m.distance_constraints = paper_distances();
     Ok(m)
 }
 

@@ -12,6 +12,7 @@
 //! - [`default_model`]: the built-in model.
 //! - [`model_settings`]: a model's own settings file (`<model>.toml`).
 //! - [`inspect`]: human-readable tables of a model.
+//! - [`shipped`]: the models shipped with stride, usable by name.
 
 pub mod default_model;
 pub mod function;
@@ -22,6 +23,7 @@ pub mod model_settings;
 pub mod osim;
 pub mod reference;
 pub mod result_dir;
+pub mod shipped;
 pub mod signal;
 pub mod storage;
 

@@ -14,6 +14,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+mod describe;
+pub use describe::DescribeError;
+
 /// Everything a model settings file can set (all optional; the defaults leave an imported
 /// `.osim` as it is, apart from the metabolic default rule).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
