@@ -169,3 +169,76 @@ fn cached_fit(m: &Model, path: &Path, bytes: &[u8], quiet: bool) -> anyhow::Resu
     }
     Ok(file)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use stride_model::default_model::default_model;
+    use stride_ocp::experimental::Kinematics;
+    use stride_ocp::guess::GuessKind;
+    use stride_ocp::node::NodeModel;
+    use stride_ocp::problem::GaitProblem;
+    use stride_ocp::settings::ProblemSettings;
+    use stride_ocp::tape_node::TapeNode;
+    use stride_ocp::transcription::Transcription;
+    use stride_solve::nlp::Nlp;
+
+    /// The model data a gait problem reads, as JSON (muscle wrapping, which the polynomial
+    /// geometry replaces, and the list of unimported elements left out).
+    fn problem_data(m: &Model) -> serde_json::Value {
+        let mut muscles = m.muscles.clone();
+        muscles.iter_mut().for_each(|x| x.wraps.clear());
+        serde_json::json!({
+            "name": m.name, "gravity": m.gravity, "bodies": m.bodies, "joints": m.joints,
+            "coordinates": m.coordinates, "muscles": muscles, "contacts": m.contacts,
+            "actuators": m.actuators, "passive_torques": m.passive_torques,
+            "path_polynomials": m.path_polynomials, "ligaments": m.ligaments,
+            "couplers": m.couplers, "coordinate_forces": m.coordinate_forces,
+            "distance_constraints": m.distance_constraints,
+        })
+    }
+
+    /// Objective and constraints at the data-informed walking guess on a small mesh.
+    fn evaluate(m: &Model) -> (f64, Vec<f64>) {
+        let settings = ProblemSettings {
+            mesh_intervals: 5,
+            ..Default::default()
+        };
+        let walking = stride_ocp::data::walking_half_cycle();
+        let p = GaitProblem::new(m, &settings, &walking).unwrap();
+        let kin = Kinematics::from_storage(&walking, &p.gait, "walking").unwrap();
+        let x0 = p
+            .initial_guess(GuessKind::DataInformedWalking, Some(&kin))
+            .unwrap();
+        let node = NodeModel::new(&p).unwrap();
+        let tape = TapeNode::for_problem(&p, &node, &x0).unwrap();
+        let tr = Transcription::new(p, tape, x0.clone());
+        let mut c = vec![0.0; tr.m()];
+        tr.constraints(&x0, &mut c).unwrap();
+        (tr.objective(&x0).unwrap(), c)
+    }
+
+    #[test]
+    fn the_shipped_subject1_import_is_the_built_in_model() {
+        let imported = load_shipped(shipped("subject1").unwrap(), None, None).unwrap();
+        let built_in = default_model();
+        assert_eq!(problem_data(&imported), problem_data(&built_in));
+        let (j0, c0) = evaluate(&built_in);
+        let (j1, c1) = evaluate(&imported);
+        assert_eq!(j0, j1);
+        assert_eq!(c0, c1);
+    }
+
+    #[test]
+    fn every_shipped_model_loads_by_name() {
+        for s in SHIPPED {
+            let m = load_model(Some(Path::new(s.name)), None, None, true).unwrap();
+            assert_eq!(m.path_polynomials.len(), m.muscles.len(), "{}", s.name);
+            assert!(!m.contacts.is_empty(), "{}", s.name);
+            assert_eq!(
+                stride_model::shipped::shipped_by_model_name(&m.name).map(|x| x.name),
+                Some(s.name)
+            );
+        }
+    }
+}

@@ -190,9 +190,10 @@ impl NodeModel {
         let listed = p.settings.min_distances.as_ref();
         for d in listed.unwrap_or(&model.distance_constraints) {
             let body = |n: &str| {
-                model
-                    .body_index(n)
-                    .ok_or_else(|| ProblemError::UnknownBody(n.to_string()))
+                model.body_index(n).ok_or_else(|| {
+                    let [a, b] = d.bodies.clone();
+                    ProblemError::UnknownBody(a, b, n.to_string())
+                })
             };
             distances.push((
                 body(&d.bodies[0])?,

@@ -60,9 +60,12 @@ pub enum ProblemError {
     /// A model function could not be prepared.
     #[error("model: {0}")]
     Model(String),
-    /// A body named in the settings does not exist.
-    #[error("min_distances: unknown body `{0}`")]
-    UnknownBody(String),
+    /// A distance constraint names a body the model does not have.
+    #[error("distance constraint `{0}`–`{1}`: the model has no body `{2}` (remove it from `min_distances` or from the model's settings file)")]
+    UnknownBody(String, String, String),
+    /// The gait outputs need a body the model does not have.
+    #[error("the model has no body `{0}` (the gait outputs need both calcanei, `calcn_r` and `calcn_l`)")]
+    MissingBody(String),
     /// A muscle named in the settings does not exist.
     #[error("strength: unknown muscle `{0}`")]
     UnknownMuscle(String),
