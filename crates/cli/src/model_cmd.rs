@@ -13,7 +13,8 @@ pub enum ModelCommand {
     /// torques, polynomial geometry and unsupported elements of an `.osim` file (or of the
     /// built-in model when no file is given).
     Inspect {
-        /// The OpenSim model file; omit for the built-in default model.
+        /// The OpenSim model file, or a shipped model's name (with its settings applied);
+        /// omit for the built-in default model.
         file: Option<PathBuf>,
     },
     /// Regenerate the built-in model (`crates/model/data/default_model.json`) from the
@@ -42,9 +43,15 @@ pub enum ModelCommand {
 pub fn run(cmd: ModelCommand) -> anyhow::Result<()> {
     match cmd {
         ModelCommand::Inspect { file } => {
-            let model = match &file {
-                Some(f) => stride_model::osim::load_osim(f)?,
-                None => default_model(),
+            let shipped = file
+                .as_deref()
+                .filter(|f| !f.exists())
+                .and_then(|f| f.to_str())
+                .and_then(stride_model::shipped::shipped);
+            let model = match (&file, shipped) {
+                (Some(f), Some(_)) => crate::model_load::load_model(Some(f), None, None, true)?,
+                (Some(f), None) => stride_model::osim::load_osim(f)?,
+                (None, _) => default_model(),
             };
             print!("{}", stride_model::inspect::render(&model));
             Ok(())
