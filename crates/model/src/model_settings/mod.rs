@@ -41,6 +41,7 @@ pub struct ModelSettings {
     pub distances: Vec<DistanceConstraint>,
     /// Linear springs and dampers on coordinates (OpenSim `SpringGeneralizedForce`),
     /// added to the model's coordinate forces.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub coordinate_springs: Vec<CoordinateSpring>,
 }
 
