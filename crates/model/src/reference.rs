@@ -241,8 +241,6 @@ pub fn add_passive_torques(model: &mut Model, path: &Path) -> Result<usize, Refe
                     k,
                     theta,
                     damping,
-                    stiffness: 0.0,
-                    rest: 0.0,
                 });
             }
         }
@@ -267,8 +265,6 @@ pub fn add_passive_torques(model: &mut Model, path: &Path) -> Result<usize, Refe
                 k: [0.0; 4],
                 theta: [0.0; 2],
                 damping: arm_damping,
-                stiffness: 0.0,
-                rest: 0.0,
             });
         }
     }

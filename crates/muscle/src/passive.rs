@@ -6,16 +6,11 @@ use stride_model::PassiveJointTorque;
 
 use crate::activation::ARM_DAMPING;
 
-/// Passive torque `k1 e^{k2(q−θ2)} + k3 e^{k4(q−θ1)} − k (q − q0) − B q̇` [N m] for angle
-/// `q` [rad] and speed `q̇` [rad s⁻¹] (the spring term only when the element has one).
+/// Passive torque `k1 e^{k2(q−θ2)} + k3 e^{k4(q−θ1)} − B q̇` [N m] for angle `q` [rad] and
+/// speed `q̇` [rad s⁻¹].
 #[inline]
 pub fn passive_torque<T: Scalar>(p: &PassiveJointTorque, q: T, qdot: T) -> T {
-    let t = limit_torque(p, q) - qdot * p.damping;
-    if p.stiffness != 0.0 {
-        t - (q - p.rest) * p.stiffness
-    } else {
-        t
-    }
+    limit_torque(p, q) - qdot * p.damping
 }
 
 /// Limit torque `k1 e^{k2(q−θ2)} + k3 e^{k4(q−θ1)}` [N m] at angle `q` [rad] (0 for an

@@ -90,8 +90,6 @@ fn element(k: [f64; 4], theta: [f64; 2], coordinate: usize) -> PassiveJointTorqu
         k,
         theta,
         damping: 0.1,
-        stiffness: 0.0,
-        rest: 0.0,
     }
 }
 

@@ -73,6 +73,9 @@ pub enum GaitModelError {
         /// The expected mirror name.
         mirror: String,
     },
+    /// The model has no contact sphere, so its feet cannot push on the ground.
+    #[error("the model has no foot contact: add SmoothSphereHalfSpaceForce elements to the .osim file or contact spheres (`[[contact.spheres]]`) to its settings file")]
+    NoContact,
     /// The model has no polynomial muscle geometry.
     #[error("the model has no fitted muscle geometry (run `stride model fit`)")]
     NoGeometry,
@@ -104,6 +107,9 @@ pub fn mirror_name(name: &str) -> String {
 impl GaitModel {
     /// Classify the coordinates and muscles of `model`.
     pub fn new(model: &Model) -> Result<Self, GaitModelError> {
+        if model.contacts.is_empty() {
+            return Err(GaitModelError::NoContact);
+        }
         let root_joint = model
             .joints
             .iter()

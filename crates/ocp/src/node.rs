@@ -42,6 +42,8 @@ pub struct NodeModel {
     /// The passive-torque cost counts only limit torques (PredSim) instead of the whole
     /// passive torques.
     limit_only_cost: bool,
+    /// Per problem coordinate: the model's coordinate force elements (springs) acting on it.
+    springs: Vec<Vec<usize>>,
     /// Per muscle-driven coordinate: (problem muscle, flat moment-arm index); removed
     /// muscles have no terms.
     torque_terms: Vec<Vec<(usize, usize)>>,
@@ -122,6 +124,8 @@ pub struct NodeWorkspace<T: Scalar> {
     vmt: Vec<T>,
     arms: Vec<T>,
     tendon: Vec<T>,
+    /// Passive torque per problem coordinate [N m or N] (0 for the root).
+    passive: Vec<T>,
 }
 
 /// Metabolic model of the cost from the settings name.
@@ -200,11 +204,13 @@ impl NodeModel {
             })
             .collect();
         let mut distances = Vec::new();
-        for d in &p.settings.min_distances {
+        let listed = p.settings.min_distances.as_ref();
+        for d in listed.unwrap_or(&model.distance_constraints) {
             let body = |n: &str| {
-                model
-                    .body_index(n)
-                    .ok_or_else(|| ProblemError::UnknownBody(n.to_string()))
+                model.body_index(n).ok_or_else(|| {
+                    let [a, b] = d.bodies.clone();
+                    ProblemError::UnknownBody(a, b, n.to_string())
+                })
             };
             distances.push((
                 body(&d.bodies[0])?,
@@ -233,7 +239,17 @@ impl NodeModel {
                 _ => 1.0,
             })
             .collect();
+        let springs = g
+            .coordinates
+            .iter()
+            .map(|c| {
+                (0..model.coordinate_forces.len())
+                    .filter(|&f| model.coordinate_forces[f].coordinate == c.model_index)
+                    .collect()
+            })
+            .collect();
         Ok(Self {
+            springs,
             actuator_passive,
             actuator_gain,
             limit_only_cost: p.passive_cost_limit_only,
@@ -325,6 +341,7 @@ impl NodeModel {
             vmt: vec![T::zero(); nm],
             arms: vec![T::zero(); self.paths.n_moment_arms()],
             tendon: vec![T::zero(); self.hill.len()],
+            passive: vec![T::zero(); self.coord_model.len()],
         })
     }
 
@@ -423,6 +440,8 @@ impl NodeModel {
                 ),
                 (None, None) => T::zero(),
             };
+            let tp = self.add_springs(i, tp, ws.q[c], ws.v[c]);
+            ws.passive[i] = tp;
             if self.limit_only_cost {
                 if let Some(pi) = passive.filter(|&pi| self.model.passive_torques[pi].has_limit()) {
                     let tl = stride_muscle::passive::limit_torque(
@@ -449,6 +468,8 @@ impl NodeModel {
                 }
                 None => (-ws.v[c] * ARM_DAMPING, None),
             };
+            let tp = self.add_springs(i, tp, ws.q[c], ws.v[c]);
+            ws.passive[i] = tp;
             match (self.limit_only_cost, limit) {
                 (false, _) => sum_tp2 += tp * tp,
                 (true, Some(tl)) => sum_tp2 += tl * tl,
@@ -546,6 +567,18 @@ pub struct SampleOutputs {
 }
 
 impl NodeModel {
+    /// `tp` plus the generalised forces of the model's springs on problem coordinate `i`
+    /// at value `q` and speed `v` (`tp` itself when it has none).
+    fn add_springs<T: Scalar>(&self, i: usize, tp: T, q: T, v: T) -> T {
+        self.springs[i].iter().fold(tp, |t, &f| {
+            t + stride_multibody::elements::coordinate_force(
+                &self.model.coordinate_forces[f].law,
+                q,
+                v,
+            )
+        })
+    }
+
     /// Number of driven coordinates with a limit torque (the passive-torque cost terms of
     /// PredSim).
     fn n_limit_torques(&self) -> usize {
@@ -602,28 +635,13 @@ impl NodeModel {
                     .total,
             );
         }
-        for (t, &(i, passive)) in self.muscle_driven.iter().enumerate() {
-            let c = self.coord_model[i];
-            if let Some(k) = self.prosthetic[t] {
-                out.passive[i] = -k * ws.q[c];
-            } else if let Some(pi) = passive {
-                out.passive[i] = stride_muscle::passive::passive_torque(
-                    &self.model.passive_torques[pi],
-                    ws.q[c],
-                    ws.v[c],
-                );
-            }
-        }
-        for (k, &i) in self.actuator_driven.iter().enumerate() {
-            let c = self.coord_model[i];
-            out.passive[i] = match self.actuator_passive[k] {
-                Some(pi) => stride_muscle::passive::passive_torque(
-                    &self.model.passive_torques[pi],
-                    ws.q[c],
-                    ws.v[c],
-                ),
-                None => -ws.v[c] * ARM_DAMPING,
-            };
+        for &i in self
+            .muscle_driven
+            .iter()
+            .map(|(i, _)| i)
+            .chain(&self.actuator_driven)
+        {
+            out.passive[i] = ws.passive[i];
         }
         out
     }

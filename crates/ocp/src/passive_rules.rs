@@ -1,7 +1,8 @@
 //! Passive joint torques of a model that brings no passive torque table (PREDSIM.md §3.6):
-//! PredSim's limit torques by coordinate name, damping on every coordinate that is not
-//! part of the floating base, linear springs on selected coordinates, and the toe joints
-//! driven by their passive torque only (PredSim's `2022paper` toes, §4).
+//! PredSim's limit torques by coordinate name and damping on every coordinate that is not
+//! part of the floating base; which part of them the cost penalises; and the toe joints
+//! driven by their passive torque only (PredSim's `2022paper` toes, §4). Springs on
+//! coordinates come from the model (`coordinate_springs` of its settings file).
 
 use crate::gait::{side_of, Actuation, GaitModel};
 use serde::{Deserialize, Serialize};
@@ -18,8 +19,6 @@ pub struct PassiveSettings {
     pub damping: f64,
     /// Which part of the passive torques the cost penalises.
     pub cost: PassiveCost,
-    /// Stiffness and damping of selected coordinates (applied to any model).
-    pub coordinates: Vec<CoordinatePassive>,
     /// How the toe (metatarsophalangeal, name containing `mtp`) coordinates are driven.
     pub toes: ToeDrive,
 }
@@ -31,7 +30,6 @@ impl Default for PassiveSettings {
             limit_torques: true,
             damping: 0.1,
             cost: PassiveCost::Auto,
-            coordinates: Vec::new(),
             toes: ToeDrive::Muscles,
         }
     }
@@ -62,28 +60,6 @@ pub enum ToeDrive {
     Passive,
 }
 
-/// Linear spring and damping of the coordinates whose name contains `coordinate`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CoordinatePassive {
-    /// Text contained in the coordinate names (`mtp` selects both toes).
-    pub coordinate: String,
-    /// Linear stiffness [N m rad⁻¹].
-    #[serde(default)]
-    pub stiffness: Option<f64>,
-    /// Angle at which the spring is relaxed [rad].
-    #[serde(default)]
-    pub rest: Option<f64>,
-    /// Damping [N m s rad⁻¹].
-    #[serde(default)]
-    pub damping: Option<f64>,
-}
-
-/// A passive-torque setting that selects nothing.
-#[derive(Debug, thiserror::Error)]
-#[error("passive.coordinates: no coordinate of the model contains `{0}`")]
-pub struct PassiveRuleError(pub String);
-
 /// Limit-torque coefficients `([k1, k2, k3, k4], [θ_lower, θ_upper])` of PredSim's
 /// `default_coord_lim_torq_coeff.csv` for a coordinate base name (FORMULATION 6.1 plus
 /// the toes, PREDSIM.md §3.6).
@@ -109,73 +85,31 @@ pub fn is_toe(name: &str) -> bool {
     name.contains("mtp")
 }
 
-/// Give `model` PredSim's passive torques when it has none (limit torques by name, damping
-/// on every muscle-driven coordinate and on actuator-driven ones with a limit torque), then
-/// apply the per-coordinate springs and damping. Returns whether PredSim's rule was used.
-pub fn apply(
-    model: &mut Model,
-    gait: &GaitModel,
-    settings: &PassiveSettings,
-) -> Result<bool, PassiveRuleError> {
-    let generated = model.passive_torques.is_empty() && settings.limit_torques;
-    if generated {
-        for c in &gait.coordinates {
-            let limit = limit_coefficients(side_of(&c.name).0);
-            let keep = match c.actuation {
-                Actuation::Root => false,
-                Actuation::Muscles => true,
-                Actuation::Actuator(_) => limit.is_some(),
-            };
-            if !keep {
-                continue;
-            }
+/// Give `model` PredSim's passive torques when it has none and the settings ask for them:
+/// limit torques by name and damping on every muscle-driven coordinate, and on the
+/// actuator-driven ones that have a limit torque. Returns whether it did.
+pub fn apply(model: &mut Model, gait: &GaitModel, settings: &PassiveSettings) -> bool {
+    if !model.passive_torques.is_empty() || !settings.limit_torques {
+        return false;
+    }
+    for c in &gait.coordinates {
+        let limit = limit_coefficients(side_of(&c.name).0);
+        let keep = match c.actuation {
+            Actuation::Root => false,
+            Actuation::Muscles => true,
+            Actuation::Actuator(_) => limit.is_some(),
+        };
+        if keep {
             let (k, theta) = limit.unwrap_or(([0.0; 4], [0.0; 2]));
             model.passive_torques.push(PassiveJointTorque {
                 coordinate: c.model_index,
                 k,
                 theta,
                 damping: settings.damping,
-                stiffness: 0.0,
-                rest: 0.0,
             });
         }
     }
-    for o in &settings.coordinates {
-        let selected: Vec<_> = gait
-            .coordinates
-            .iter()
-            .filter(|c| c.actuation != Actuation::Root && c.name.contains(&o.coordinate))
-            .map(|c| c.model_index)
-            .collect();
-        if selected.is_empty() {
-            return Err(PassiveRuleError(o.coordinate.clone()));
-        }
-        for ci in selected {
-            let p = match model
-                .passive_torques
-                .iter()
-                .position(|p| p.coordinate == ci)
-            {
-                Some(p) => p,
-                None => {
-                    model.passive_torques.push(PassiveJointTorque {
-                        coordinate: ci,
-                        k: [0.0; 4],
-                        theta: [0.0; 2],
-                        damping: settings.damping,
-                        stiffness: 0.0,
-                        rest: 0.0,
-                    });
-                    model.passive_torques.len() - 1
-                }
-            };
-            let p = &mut model.passive_torques[p];
-            p.stiffness = o.stiffness.unwrap_or(p.stiffness);
-            p.rest = o.rest.unwrap_or(p.rest);
-            p.damping = o.damping.unwrap_or(p.damping);
-        }
-    }
-    Ok(generated)
+    true
 }
 
 #[cfg(test)]

@@ -61,9 +61,12 @@ pub enum ProblemError {
     /// A model function could not be prepared.
     #[error("model: {0}")]
     Model(String),
-    /// A body named in the settings does not exist.
-    #[error("min_distances: unknown body `{0}`")]
-    UnknownBody(String),
+    /// A distance constraint names a body the model does not have.
+    #[error("distance constraint `{0}`–`{1}`: the model has no body `{2}` (remove it from `min_distances` or from the model's settings file)")]
+    UnknownBody(String, String, String),
+    /// The gait outputs need a body the model does not have.
+    #[error("the model has no body `{0}` (the gait outputs need both calcanei, `calcn_r` and `calcn_l`)")]
+    MissingBody(String),
     /// A muscle named in the settings does not exist.
     #[error("strength: unknown muscle `{0}`")]
     UnknownMuscle(String),
@@ -214,9 +217,8 @@ impl GaitProblem {
             apply_prosthesis(&mut model, p)?;
         }
         let mut gait = GaitModel::new(&model)?;
-        let generated = crate::passive_rules::apply(&mut model, &gait, &settings.passive)
-            .map_err(|e| ProblemError::Model(e.to_string()))?;
-        if generated || !settings.passive.coordinates.is_empty() {
+        let generated = crate::passive_rules::apply(&mut model, &gait, &settings.passive);
+        if generated {
             gait = GaitModel::new(&model)?;
         }
         let passive_cost_limit_only = match settings.passive.cost {

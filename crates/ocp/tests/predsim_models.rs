@@ -2,12 +2,12 @@
 //! as gait problems: bounds from the data where they match and from the model where not,
 //! PredSim's limit torques (analytic values), the toes driven by their passive torque,
 //! the 2D model's gait view, and derivatives of small problems against finite
-//! differences. Skipped when `../shared/reference` is absent.
+//! differences, on the models as shipped (settings file and fitted geometry).
 
-use std::path::PathBuf;
-use stride_geometry::{cached_geometry, FitSettings};
+use stride_geometry::GeometryFile;
+use stride_model::model_settings::ModelSettings;
 use stride_model::Model;
-use stride_ocp::passive_rules::{CoordinatePassive, ToeDrive};
+use stride_ocp::passive_rules::{PassiveCost, ToeDrive};
 use stride_ocp::predict::{bounds_data, guess_point};
 use stride_ocp::{
     guess::GuessKind, node::NodeModel, problem::GaitProblem, settings::ProblemSettings,
@@ -15,57 +15,30 @@ use stride_ocp::{
 };
 use stride_solve::nlp::{check_derivatives, DerivativeCheckOptions};
 
-fn models_dir() -> Option<PathBuf> {
-    let p = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/reference/models/predsim"
-    ));
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!("skipping: PredSim models not found at {}", p.display());
-        None
-    }
+/// A model shipped with stride, with its settings file and fitted geometry.
+fn shipped(name: &str) -> Model {
+    let s = stride_model::shipped::shipped(name).unwrap();
+    let mut m = stride_model::osim::parse_osim(s.osim, s.file_name).unwrap();
+    ModelSettings::parse(s.settings, name)
+        .unwrap()
+        .apply(&mut m, name)
+        .unwrap();
+    GeometryFile::parse(s.geometry, name)
+        .unwrap()
+        .apply(&mut m)
+        .unwrap();
+    m
 }
 
-/// The model with a quick low-order polynomial fit (enough for problem structure and
-/// derivatives; the predictions use the full fit).
-fn model(name: &str) -> Option<Model> {
-    let path = models_dir()?.join(format!("{name}.osim"));
-    let bytes = std::fs::read(&path).unwrap();
-    let mut m = stride_model::osim::parse_osim(&String::from_utf8_lossy(&bytes), name).unwrap();
-    let dir = std::env::temp_dir().join(format!("stride-predsim-fit-{}", std::process::id()));
-    let settings = FitSettings {
-        n_samples: 150,
-        orders: [2, 2],
-        ..Default::default()
-    };
-    let (file, _) = cached_geometry(&m, &bytes, &dir, &settings).unwrap();
-    file.apply(&mut m).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
-    Some(m)
-}
-
-/// PredSim's settings of the toes model: toes driven passively with k = 25, B = 2, the
-/// anti-clipping distances of bodies the model has.
+/// PredSim's problem settings of the toes model: toes driven passively, limit torques
+/// only in the cost.
 fn toes_settings(mesh: usize) -> ProblemSettings {
     let mut s = ProblemSettings {
         mesh_intervals: mesh,
         ..Default::default()
     };
     s.passive.toes = ToeDrive::Passive;
-    s.passive.coordinates.push(CoordinatePassive {
-        coordinate: "mtp".into(),
-        stiffness: Some(25.0),
-        rest: None,
-        damping: Some(2.0),
-    });
-    s.min_distances
-        .push(stride_ocp::settings::DistanceConstraint {
-            bodies: ["toes_r".into(), "toes_l".into()],
-            min: 0.10,
-            max: 2.0,
-        });
+    s.passive.cost = PassiveCost::Limit;
     s
 }
 
@@ -75,9 +48,7 @@ fn problem(m: &Model, s: &ProblemSettings) -> GaitProblem {
 
 #[test]
 fn toes_get_model_bounds_and_predsims_passive_torque() {
-    let Some(m) = model("Falisse_et_al_2022") else {
-        return;
-    };
+    let m = shipped("falisse2022");
     let p = problem(&m, &toes_settings(4));
     assert_eq!(p.gait.nq(), 31);
     let i = p.gait.index_of("mtp_angle_l").unwrap();
@@ -91,6 +62,15 @@ fn toes_get_model_bounds_and_predsims_passive_torque() {
     let limits = p.model.passive_torques.iter().filter(|t| t.has_limit());
     assert_eq!(limits.count(), 17);
     assert!(p.passive_cost_limit_only);
+    let spring = |name: &str| {
+        let c = p.model.coordinate_index(name).unwrap();
+        p.model
+            .coordinate_forces
+            .iter()
+            .find(|f| f.coordinate == c)
+            .cloned()
+    };
+    assert!(spring("mtp_angle_l").is_some() && spring("knee_angle_l").is_none());
     // T = -k q - B q̇ + K1 e^{K2(q-θ2)} + K3 e^{K4(q-θ1)} at a few toe angles (PREDSIM §4)
     let c = p.gait.coordinates[i].model_index;
     let e = p
@@ -103,7 +83,9 @@ fn toes_get_model_bounds_and_predsims_passive_torque() {
         let expected = -25.0 * q - 2.0 * qd
             + (-0.9) * (14.87 * (q - 1.13446401379631f64)).exp()
             + 0.18 * (-70.08 * q as f64).exp();
-        let got = stride_muscle::passive::passive_torque(e, q, qd);
+        let law = &spring("mtp_angle_l").unwrap().law;
+        let got = stride_muscle::passive::passive_torque(e, q, qd)
+            + stride_multibody::elements::coordinate_force(law, q, qd);
         assert!(
             (got - expected).abs() < 1e-12 * expected.abs().max(1.0),
             "{q}: {got} vs {expected}"
@@ -124,9 +106,7 @@ fn toes_get_model_bounds_and_predsims_passive_torque() {
 
 #[test]
 fn passive_toes_carry_no_muscle_moment() {
-    let Some(m) = model("Falisse_et_al_2022") else {
-        return;
-    };
+    let m = shipped("falisse2022");
     for (toes, expect_muscle) in [(ToeDrive::Passive, false), (ToeDrive::Muscles, true)] {
         let mut s = toes_settings(3);
         s.passive.toes = toes;
@@ -172,12 +152,9 @@ fn passive_toes_carry_no_muscle_moment() {
 
 #[test]
 fn planar_model_has_no_lateral_coordinates_and_mirrors_its_legs() {
-    let Some(m) = model("gait1018") else {
-        return;
-    };
+    let m = shipped("gait1018");
     let s = ProblemSettings {
         mesh_intervals: 4,
-        min_distances: Vec::new(),
         ..Default::default()
     };
     let p = problem(&m, &s);
@@ -249,19 +226,14 @@ fn check_first_derivatives(m: &Model, s: &ProblemSettings) {
 
 #[test]
 fn toes_model_derivatives_match_finite_differences() {
-    if let Some(m) = model("Falisse_et_al_2022") {
-        check_first_derivatives(&m, &toes_settings(3));
-    }
+    check_first_derivatives(&shipped("falisse2022"), &toes_settings(3));
 }
 
 #[test]
 fn planar_model_derivatives_match_finite_differences() {
-    if let Some(m) = model("gait1018") {
-        let s = ProblemSettings {
-            mesh_intervals: 3,
-            min_distances: Vec::new(),
-            ..Default::default()
-        };
-        check_first_derivatives(&m, &s);
-    }
+    let s = ProblemSettings {
+        mesh_intervals: 3,
+        ..Default::default()
+    };
+    check_first_derivatives(&shipped("gait1018"), &s);
 }
