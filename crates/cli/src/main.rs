@@ -2,6 +2,7 @@
 
 mod bench_cmd;
 mod bench_geometry;
+mod build_default;
 mod data_cmd;
 mod fit_cmd;
 mod limits;

@@ -13,7 +13,8 @@ pub enum ModelCommand {
     /// torques, polynomial geometry and unsupported elements of an `.osim` file (or of the
     /// built-in model when no file is given).
     Inspect {
-        /// The OpenSim model file; omit for the built-in default model.
+        /// The OpenSim model file, or a shipped model's name (with its settings applied);
+        /// omit for the built-in default model.
         file: Option<PathBuf>,
     },
     /// Regenerate the built-in model (`crates/model/data/default_model.json`) from the
@@ -26,6 +27,10 @@ pub enum ModelCommand {
         /// Output file.
         #[arg(long, default_value = "crates/model/data/default_model.json")]
         out: PathBuf,
+        /// Folder of the shipped `subject1` import: `subject1_v2.osim`, its settings file
+        /// and the paper's polynomial geometry as a geometry file.
+        #[arg(long, default_value = "crates/model/data/models/subject1")]
+        models: PathBuf,
     },
     /// Fit polynomial muscle-tendon geometry to the path points of an `.osim` file and print the accuracy table.
     Fit(crate::fit_cmd::FitArgs),
@@ -38,21 +43,33 @@ pub enum ModelCommand {
 pub fn run(cmd: ModelCommand) -> anyhow::Result<()> {
     match cmd {
         ModelCommand::Inspect { file } => {
-            let model = match &file {
-                Some(f) => stride_model::osim::load_osim(f)?,
-                None => default_model(),
+            let shipped = file
+                .as_deref()
+                .filter(|f| !f.exists())
+                .and_then(|f| f.to_str())
+                .and_then(stride_model::shipped::shipped);
+            let model = match (&file, shipped) {
+                (Some(f), Some(_)) => crate::model_load::load_model(Some(f), None, None, true)?,
+                (Some(f), None) => stride_model::osim::load_osim(f)?,
+                (None, _) => default_model(),
             };
             print!("{}", stride_model::inspect::render(&model));
             Ok(())
         }
-        ModelCommand::BuildDefault { reference, out } => {
+        ModelCommand::BuildDefault {
+            reference,
+            out,
+            models,
+        } => {
             let model = build_default_model(&reference)?;
+            crate::build_default::write_subject1(&model, &reference, &models)?;
             let text = default_model_json(&model)?;
             write_atomic(&out, text.as_bytes())
                 .with_context(|| format!("writing {}", out.display()))?;
             println!(
-                "wrote {} ({} bytes): {} coordinates, {} muscles, {} contacts, {} passive torques, {} actuators",
+                "wrote {} and the subject1 import in {} ({} bytes): {} coordinates, {} muscles, {} contacts, {} passive torques, {} actuators",
                 out.display(),
+                models.display(),
                 text.len(),
                 model.coordinates.len(),
                 model.muscles.len(),

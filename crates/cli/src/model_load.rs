@@ -1,10 +1,14 @@
-//! The model of a prediction: the built-in model, or an OpenSim model with its fitted
-//! muscle geometry — an explicit geometry file, or the per-user cache keyed by the model
-//! file's content (fitted on first use).
+//! The model of a prediction: the built-in model, a model shipped with stride (by name:
+//! `falisse2022`, …), or an OpenSim model file with its settings file (`--model-settings`,
+//! else `<model>.toml` beside it, else the defaults) and its fitted muscle geometry — an
+//! explicit geometry file, the settings file's `geometry`, or the per-user cache keyed by
+//! the model file's content (fitted on first use).
 
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 use stride_geometry::{cached_geometry, FitSettings, GeometryFile, GeometrySource};
+use stride_model::model_settings::ModelSettings;
+use stride_model::shipped::{shipped, ShippedModel, SHIPPED};
 use stride_model::Model;
 
 /// The per-user cache folder of fitted geometry: `$XDG_CACHE_HOME/stride`, else
@@ -17,20 +21,43 @@ pub(crate) fn cache_dir() -> Option<PathBuf> {
     Some(base.join("stride"))
 }
 
-/// Loads `model` (default: the built-in model) with the muscle geometry of `geometry`
-/// when given, else (for an `.osim`) from the cache, fitting and caching it on first use.
+/// The names of the shipped models, for messages.
+fn shipped_names() -> String {
+    SHIPPED.map(|s| s.name).join(", ")
+}
+
+/// Loads `model` (default: the built-in model; a shipped model's name; or an `.osim`
+/// file) with its settings file (`settings`, else the one beside it or shipped with it)
+/// and the muscle geometry of `geometry` when given, else the settings file's, else the
+/// shipped one, else (for an `.osim`) from the cache, fitting and caching it on first use.
 pub(crate) fn load_model(
     model: Option<&Path>,
+    settings: Option<&Path>,
     geometry: Option<&Path>,
     quiet: bool,
 ) -> anyhow::Result<Model> {
     let Some(path) = model else {
+        if settings.is_some() {
+            let subject1 = shipped("subject1").context("the built-in model is not shipped")?;
+            return load_shipped(subject1, settings, geometry);
+        }
         let mut m = stride_model::default_model::default_model();
         if let Some(g) = geometry {
             GeometryFile::read(g)?.apply(&mut m)?;
         }
         return Ok(m);
     };
+    if let Some(s) = as_name(path) {
+        if !path.exists() {
+            let s = shipped(s).with_context(|| {
+                format!(
+                    "model `{s}`: no such file, and not a shipped model ({})",
+                    shipped_names()
+                )
+            })?;
+            return load_shipped(s, settings, geometry);
+        }
+    }
     if path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
@@ -40,45 +67,178 @@ pub(crate) fn load_model(
             path.display()
         );
     }
-    let bytes = std::fs::read(path).with_context(|| format!("reading model {}", path.display()))?;
-    let text = String::from_utf8_lossy(&bytes);
-    let mut m = stride_model::osim::parse_osim(&text, &path.display().to_string())?;
-    let file = match geometry {
-        Some(g) => GeometryFile::read(g)?,
-        None => {
-            let dir = cache_dir().context(
-                "no cache folder for the fitted muscle geometry (set XDG_CACHE_HOME or HOME, or pass --geometry)",
-            )?;
-            if !quiet {
-                eprintln!(
-                    "muscle geometry of {}: looking in {}",
-                    path.display(),
-                    dir.display()
-                );
-            }
-            let (file, source) = cached_geometry(&m, &bytes, &dir, &FitSettings::default())?;
-            if !quiet {
-                match source {
-                    GeometrySource::Cached(p) => {
-                        eprintln!("  using the cached fit {}", p.display())
-                    }
-                    GeometrySource::Fitted(p) => {
-                        eprintln!("  fitted on first use, cached as {}", p.display())
-                    }
-                }
-                for a in file.accuracy.iter().filter(|a| !a.meets_tolerance) {
-                    eprintln!(
-                        "  warning: muscle {} misses the {:.1} mm target: RMS length error {:.2} mm, largest RMS moment-arm error {:.2} mm",
-                        a.muscle,
-                        file.settings.tolerance * 1e3,
-                        a.rms_length_mm,
-                        a.max_rms_moment_arm_mm
-                    );
-                }
-            }
-            file
+    load_file(path, settings, geometry, quiet)
+}
+
+/// `path` as a bare model name (one component, no extension), if it is one.
+fn as_name(path: &Path) -> Option<&str> {
+    let s = path.to_str()?;
+    (path.components().count() == 1 && path.extension().is_none()).then_some(s)
+}
+
+/// A shipped model: its embedded `.osim`, settings (or `settings`) and geometry (or
+/// `geometry`, or the settings file's).
+fn load_shipped(
+    s: &ShippedModel,
+    settings: Option<&Path>,
+    geometry: Option<&Path>,
+) -> anyhow::Result<Model> {
+    let mut m = stride_model::osim::parse_osim(s.osim, s.file_name)?;
+    let geometry = match settings {
+        Some(f) => {
+            let ms = ModelSettings::read(f)?;
+            ms.apply(&mut m, &f.display().to_string())?;
+            geometry.map(Path::to_path_buf).or(ms.geometry)
         }
+        None => {
+            let name = format!("{} (shipped settings of {})", s.file_name, s.name);
+            ModelSettings::parse(s.settings, &name)?.apply(&mut m, &name)?;
+            geometry.map(Path::to_path_buf)
+        }
+    };
+    let file = match geometry {
+        Some(g) => GeometryFile::read(&g)?,
+        None => GeometryFile::parse(s.geometry, &format!("geometry of {}", s.name))?,
     };
     file.apply(&mut m)?;
     Ok(m)
+}
+
+/// An `.osim` file with its settings and geometry.
+fn load_file(
+    path: &Path,
+    settings: Option<&Path>,
+    geometry: Option<&Path>,
+    quiet: bool,
+) -> anyhow::Result<Model> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading model {}", path.display()))?;
+    let text = String::from_utf8_lossy(&bytes);
+    let mut m = stride_model::osim::parse_osim(&text, &path.display().to_string())?;
+    m.source_file = Some(path.to_path_buf());
+    let settings_file = settings
+        .map(Path::to_path_buf)
+        .or_else(|| ModelSettings::beside(path));
+    let model_settings = match &settings_file {
+        Some(f) => {
+            if !quiet && settings.is_none() {
+                eprintln!("model settings of {}: {}", path.display(), f.display());
+            }
+            ModelSettings::read(f)?
+        }
+        None => ModelSettings::default(),
+    };
+    let source = settings_file.map_or("default model settings".into(), |f| f.display().to_string());
+    model_settings.apply(&mut m, &source)?;
+    let file = match geometry.or(model_settings.geometry.as_deref()) {
+        Some(g) => GeometryFile::read(g)?,
+        None => cached_fit(&m, path, &bytes, quiet)?,
+    };
+    file.apply(&mut m)?;
+    Ok(m)
+}
+
+/// The cached fit of the model file `path` (content `bytes`), fitted on first use.
+fn cached_fit(m: &Model, path: &Path, bytes: &[u8], quiet: bool) -> anyhow::Result<GeometryFile> {
+    let dir = cache_dir().context(
+        "no cache folder for the fitted muscle geometry (set XDG_CACHE_HOME or HOME, or pass --geometry)",
+    )?;
+    if !quiet {
+        eprintln!(
+            "muscle geometry of {}: looking in {}",
+            path.display(),
+            dir.display()
+        );
+    }
+    let (file, source) = cached_geometry(m, bytes, &dir, &FitSettings::default())?;
+    if !quiet {
+        match source {
+            GeometrySource::Cached(p) => eprintln!("  using the cached fit {}", p.display()),
+            GeometrySource::Fitted(p) => {
+                eprintln!("  fitted on first use, cached as {}", p.display())
+            }
+        }
+        for a in file.accuracy.iter().filter(|a| !a.meets_tolerance) {
+            eprintln!(
+                "  warning: muscle {} misses the {:.1} mm target: RMS length error {:.2} mm, largest RMS moment-arm error {:.2} mm",
+                a.muscle,
+                file.settings.tolerance * 1e3,
+                a.rms_length_mm,
+                a.max_rms_moment_arm_mm
+            );
+        }
+    }
+    Ok(file)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use stride_model::default_model::default_model;
+    use stride_ocp::experimental::Kinematics;
+    use stride_ocp::guess::GuessKind;
+    use stride_ocp::node::NodeModel;
+    use stride_ocp::problem::GaitProblem;
+    use stride_ocp::settings::ProblemSettings;
+    use stride_ocp::tape_node::TapeNode;
+    use stride_ocp::transcription::Transcription;
+    use stride_solve::nlp::Nlp;
+
+    /// The model data a gait problem reads, as JSON (muscle wrapping, which the polynomial
+    /// geometry replaces, and the list of unimported elements left out).
+    fn problem_data(m: &Model) -> serde_json::Value {
+        let mut muscles = m.muscles.clone();
+        muscles.iter_mut().for_each(|x| x.wraps.clear());
+        serde_json::json!({
+            "name": m.name, "gravity": m.gravity, "bodies": m.bodies, "joints": m.joints,
+            "coordinates": m.coordinates, "muscles": muscles, "contacts": m.contacts,
+            "actuators": m.actuators, "passive_torques": m.passive_torques,
+            "path_polynomials": m.path_polynomials, "ligaments": m.ligaments,
+            "couplers": m.couplers, "coordinate_forces": m.coordinate_forces,
+            "distance_constraints": m.distance_constraints,
+        })
+    }
+
+    /// Objective and constraints at the data-informed walking guess on a small mesh.
+    fn evaluate(m: &Model) -> (f64, Vec<f64>) {
+        let settings = ProblemSettings {
+            mesh_intervals: 5,
+            ..Default::default()
+        };
+        let walking = stride_ocp::data::walking_half_cycle();
+        let p = GaitProblem::new(m, &settings, &walking).unwrap();
+        let kin = Kinematics::from_storage(&walking, &p.gait, "walking").unwrap();
+        let x0 = p
+            .initial_guess(GuessKind::DataInformedWalking, Some(&kin))
+            .unwrap();
+        let node = NodeModel::new(&p).unwrap();
+        let tape = TapeNode::for_problem(&p, &node, &x0).unwrap();
+        let tr = Transcription::new(p, tape, x0.clone());
+        let mut c = vec![0.0; tr.m()];
+        tr.constraints(&x0, &mut c).unwrap();
+        (tr.objective(&x0).unwrap(), c)
+    }
+
+    #[test]
+    fn the_shipped_subject1_import_is_the_built_in_model() {
+        let imported = load_shipped(shipped("subject1").unwrap(), None, None).unwrap();
+        let built_in = default_model();
+        assert_eq!(problem_data(&imported), problem_data(&built_in));
+        let (j0, c0) = evaluate(&built_in);
+        let (j1, c1) = evaluate(&imported);
+        assert_eq!(j0, j1);
+        assert_eq!(c0, c1);
+    }
+
+    #[test]
+    fn every_shipped_model_loads_by_name() {
+        for s in SHIPPED {
+            let m = load_model(Some(Path::new(s.name)), None, None, true).unwrap();
+            assert_eq!(m.path_polynomials.len(), m.muscles.len(), "{}", s.name);
+            assert!(!m.contacts.is_empty(), "{}", s.name);
+            assert_eq!(
+                stride_model::shipped::shipped_by_model_name(&m.name).map(|x| x.name),
+                Some(s.name)
+            );
+        }
+    }
 }

@@ -21,8 +21,12 @@ pub struct PredictArgs {
     /// OpenSim model file (.osim) [default: the built-in subject1 model of the paper].
     #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
+    /// The model's settings file (contact spheres, passive torques, actuators, …; see
+    /// docs/settings.md) [default: `<model>.toml` beside the model file, if any].
+    #[arg(long, value_name = "FILE")]
+    pub model_settings: Option<PathBuf>,
     /// Fitted muscle geometry of the model (`stride model fit --out`); default for an
-    /// `.osim`: the per-user cache, fitted on first use.
+    /// `.osim`: the settings file's `geometry`, else the per-user cache, fitted on first use.
     #[arg(long)]
     pub geometry: Option<PathBuf>,
     /// Imposed average forward speed [m/s] [default: 1.33].
@@ -98,6 +102,7 @@ struct SolverSection {
 #[serde(deny_unknown_fields)]
 struct StudyFile {
     model: Option<PathBuf>,
+    model_settings: Option<PathBuf>,
     geometry: Option<PathBuf>,
     output: Option<PathBuf>,
     guesses: Option<Vec<String>>,
@@ -347,6 +352,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
     options.threads = (cores / guesses.len()).max(1);
     let model = crate::model_load::load_model(
         args.model.or(study.model).as_deref(),
+        args.model_settings.or(study.model_settings).as_deref(),
         args.geometry.or(study.geometry).as_deref(),
         args.quiet,
     )?;
@@ -498,7 +504,7 @@ pub struct RewriteArgs {
 /// folder without a kept solution is an error; every other folder is still rewritten.
 pub fn rewrite(args: RewriteArgs) -> anyhow::Result<()> {
     use stride_ocp::solution::{rewrite_folder, Rewritten, SOLUTION_FILE};
-    let model = crate::model_load::load_model(args.model.as_deref(), None, false)?;
+    let model = crate::model_load::load_model(args.model.as_deref(), None, None, false)?;
     let mut failed = Vec::new();
     for dir in &args.folders {
         if !dir.join("summary.json").is_file() {

@@ -266,12 +266,10 @@ fn print_series(report: &analysis::Report) {
     }
 }
 
-/// The model of a study: its `model` file, else the built-in model.
+/// The model of a study: its `model` (a shipped model's name, or an `.osim` file with
+/// its settings file beside it and its fitted geometry), else the built-in model.
 fn study_model(path: Option<&Path>) -> anyhow::Result<stride_model::Model> {
-    Ok(match path {
-        Some(p) => stride_model::osim::load_osim(p).context("loading model")?,
-        None => stride_model::default_model::default_model(),
-    })
+    crate::model_load::load_model(path, None, None, false).context("loading model")
 }
 
 /// Rewrite the result files of every finished case of a study folder from its solution;

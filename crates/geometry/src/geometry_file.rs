@@ -109,12 +109,20 @@ impl GeometryFile {
     /// Reads a geometry file; a file that is not one (e.g. an `.osim`) is an error that
     /// says so.
     pub fn read(path: &Path) -> Result<Self, GeometryError> {
-        let err = |what: String| GeometryError::File {
+        let text = std::fs::read_to_string(path).map_err(|e| GeometryError::File {
             path: path.display().to_string(),
+            what: format!("cannot read: {e}"),
+        })?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses the text of a geometry file; `source` names it in errors.
+    pub fn parse(text: &str, source: &str) -> Result<Self, GeometryError> {
+        let err = |what: String| GeometryError::File {
+            path: source.to_string(),
             what,
         };
-        let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read: {e}")))?;
-        let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
             err(format!(
                 "not a stride muscle-geometry file (written by `stride model fit --out`): {e}"
             ))

@@ -10,6 +10,7 @@
 //! equals a fresh [`build_default_model`].
 
 use crate::model::Model;
+use crate::model_settings::DistanceConstraint;
 use crate::osim::{load_osim, OsimError};
 use crate::reference::{self, ReferenceError};
 use std::path::Path;
@@ -50,10 +51,27 @@ pub fn default_model() -> Model {
     static MODEL: OnceLock<Model> = OnceLock::new();
     MODEL
         .get_or_init(|| {
-            serde_json::from_str(DEFAULT_MODEL_JSON)
-                .expect("the shipped default_model.json is a valid stride model")
+            let mut m: Model = serde_json::from_str(DEFAULT_MODEL_JSON)
+                .expect("the shipped default_model.json is a valid stride model");
+            m.distance_constraints = paper_distances();
+            m
         })
         .clone()
+}
+
+/// The paper's distance constraints (calcanei 9 cm, femur–hand 18 cm, tibiae 11 cm).
+pub fn paper_distances() -> Vec<DistanceConstraint> {
+    let d = |a: &str, b: &str, min: f64| DistanceConstraint {
+        bodies: [a.into(), b.into()],
+        min,
+        max: 2.0,
+    };
+    vec![
+        d("calcn_r", "calcn_l", 0.09),
+        d("femur_r", "hand_r", 0.18),
+        d("femur_l", "hand_l", 0.18),
+        d("tibia_r", "tibia_l", 0.11),
+    ]
 }
 
 /// Build the default model from the reference folder (`shared/reference`).
@@ -92,6 +110,7 @@ pub fn build_default_model(reference_dir: &Path) -> Result<Model, DefaultModelEr
     expect("muscles with polynomial geometry", n, 92)?;
     let n = reference::add_arm_actuators(&mut m);
     expect("arm actuators", n, 8)?;
+    m.distance_constraints = paper_distances();
     Ok(m)
 }
 

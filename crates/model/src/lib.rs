@@ -10,7 +10,9 @@
 //! - [`function`]: coordinate functions (linear, splines, ...) generic over the scalar.
 //! - [`reference`]: loaders of the paper's reference tables.
 //! - [`default_model`]: the built-in model.
+//! - [`model_settings`]: a model's own settings file (`<model>.toml`).
 //! - [`inspect`]: human-readable tables of a model.
+//! - [`shipped`]: the models shipped with stride, usable by name.
 
 pub mod claim;
 pub mod default_model;
@@ -18,9 +20,11 @@ pub mod function;
 pub mod inspect;
 pub mod lock;
 pub mod model;
+pub mod model_settings;
 pub mod osim;
 pub mod reference;
 pub mod result_dir;
+pub mod shipped;
 pub mod signal;
 pub mod storage;
 

@@ -59,6 +59,10 @@ pub struct Model {
     /// it); `None` for the built-in model and for models built in code.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub source_file: Option<std::path::PathBuf>,
+    /// Bounds on the horizontal distances between body origins that a gait problem keeps
+    /// (anti-clipping constraints, from the model's settings file).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub distance_constraints: Vec<crate::model_settings::DistanceConstraint>,
 }
 
 /// A rigid body.
@@ -381,8 +385,9 @@ pub struct PathWrap {
 }
 
 /// Parameters of the smooth Hunt–Crossley sphere–plane contact (OpenSim
-/// `SmoothSphereHalfSpaceForce`).
+/// `SmoothSphereHalfSpaceForce`). Fields left out of a file take the paper's values.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct ContactParameters {
     /// Plane-strain modulus E [N m⁻²].
     pub stiffness: f64,
@@ -553,7 +558,8 @@ pub enum CoordinateForceLaw {
 }
 
 /// Passive joint torque of one coordinate:
-/// `T = k1 exp(k2 (q − θ2)) + k3 exp(k4 (q − θ1)) − damping · q̇` [N m].
+/// `T = k1 exp(k2 (q − θ2)) + k3 exp(k4 (q − θ1)) − damping · q̇` [N m]; the exponential
+/// terms are the limit torque.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PassiveJointTorque {
     /// The coordinate.
@@ -564,6 +570,13 @@ pub struct PassiveJointTorque {
     pub theta: [f64; 2],
     /// Linear damping [N m s rad⁻¹].
     pub damping: f64,
+}
+
+impl PassiveJointTorque {
+    /// Whether the element has a limit torque (a non-zero exponential term).
+    pub fn has_limit(&self) -> bool {
+        self.k[0] != 0.0 || self.k[2] != 0.0
+    }
 }
 
 /// An element of the source file that the importer did not turn into model data.
@@ -606,6 +619,7 @@ impl Default for Model {
             couplers: Vec::new(),
             coordinate_forces: Vec::new(),
             source_file: None,
+            distance_constraints: Vec::new(),
         }
     }
 }

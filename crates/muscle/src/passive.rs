@@ -10,9 +10,19 @@ use crate::activation::ARM_DAMPING;
 /// speed `q̇` [rad s⁻¹].
 #[inline]
 pub fn passive_torque<T: Scalar>(p: &PassiveJointTorque, q: T, qdot: T) -> T {
+    limit_torque(p, q) - qdot * p.damping
+}
+
+/// Limit torque `k1 e^{k2(q−θ2)} + k3 e^{k4(q−θ1)}` [N m] at angle `q` [rad] (0 for an
+/// element without one).
+#[inline]
+pub fn limit_torque<T: Scalar>(p: &PassiveJointTorque, q: T) -> T {
+    if !p.has_limit() {
+        return T::zero();
+    }
     let [k1, k2, k3, k4] = p.k;
     let [theta_lower, theta_upper] = p.theta;
-    ((q - theta_upper) * k2).exp() * k1 + ((q - theta_lower) * k4).exp() * k3 - qdot * p.damping
+    ((q - theta_upper) * k2).exp() * k1 + ((q - theta_lower) * k4).exp() * k3
 }
 
 /// Passive torque of an arm coordinate, `−0.1 q̇` [N m] (stiffness 0).

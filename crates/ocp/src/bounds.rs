@@ -3,7 +3,8 @@
 //! Coordinate, speed and acceleration bounds come from experimental kinematics: for each
 //! coordinate (left and right pooled), [min − 2 range, max + 2 range] for positions and
 //! 3 ranges of margin for speeds and accelerations, then the paper's manual overrides.
-//! The scale factor of each quantity is max(|lower|, |upper|).
+//! Coordinates the data do not cover (toes, midtarsal joints, …) get the model-only rule
+//! of [`crate::bounds_model`]. The scale factor of each quantity is max(|lower|, |upper|).
 
 use crate::experimental::Kinematics;
 use crate::gait::{side_of, GaitModel};
@@ -80,7 +81,7 @@ impl CoordinateBounds {
                 &[i]
             };
             for row in series {
-                for &c in cols {
+                for &c in cols.iter().filter(|&&c| data.measured[c]) {
                     lo = lo.min(row[c]);
                     hi = hi.max(row[c]);
                 }
@@ -96,6 +97,15 @@ impl CoordinateBounds {
         let mut a = Vec::with_capacity(nq);
         let mut raw_q = Vec::with_capacity(nq);
         for i in 0..nq {
+            let c = &gait.coordinates[i];
+            if !data.measured[i] && !data.measured[c.mirror] {
+                let [bq, bv, ba] = crate::bounds_model::model_only(&c.name, c.range);
+                raw_q.push((bq.lo, bq.hi));
+                q.push(bq);
+                v.push(bv);
+                a.push(ba);
+                continue;
+            }
             let pq = pooled(&data.q, i);
             raw_q.push(pq);
             q.push(widen(pq, 2.0));

@@ -18,6 +18,9 @@ pub struct Kinematics {
     pub v: Vec<Vec<f64>>,
     /// Accelerations [rad s⁻² or m s⁻²].
     pub a: Vec<Vec<f64>>,
+    /// Per problem coordinate: whether the source had a column for it (a coordinate
+    /// without one is 0 at every sample).
+    pub measured: Vec<bool>,
 }
 
 /// Why experimental kinematics could not be used.
@@ -55,8 +58,27 @@ pub enum KinematicsError {
 pub const FILTER_CUTOFF_HZ: f64 = 6.0;
 
 impl Kinematics {
-    /// Filter and spline the columns of `storage` that match the problem coordinates.
+    /// Filter and spline the columns of `storage` that match the problem coordinates;
+    /// every coordinate needs a column.
     pub fn from_storage(
+        storage: &Storage,
+        gait: &GaitModel,
+        source: &str,
+    ) -> Result<Self, KinematicsError> {
+        let k = Self::matching(storage, gait, source)?;
+        match k.measured.iter().position(|&m| !m) {
+            Some(i) => Err(KinematicsError::MissingColumn {
+                file: source.into(),
+                coordinate: gait.coordinates[i].name.clone(),
+            }),
+            None => Ok(k),
+        }
+    }
+
+    /// Filter and spline the columns of `storage` whose names match problem coordinates;
+    /// coordinates without a column are 0 (position, speed and acceleration) and marked
+    /// in [`Kinematics::measured`].
+    pub fn matching(
         storage: &Storage,
         gait: &GaitModel,
         source: &str,
@@ -75,14 +97,12 @@ impl Kinematics {
         let mut q = vec![vec![0.0; nq]; ns];
         let mut v = vec![vec![0.0; nq]; ns];
         let mut a = vec![vec![0.0; nq]; ns];
+        let mut measured = vec![false; nq];
         for (i, c) in gait.coordinates.iter().enumerate() {
-            let mut col =
-                storage
-                    .column(&c.name)
-                    .ok_or_else(|| KinematicsError::MissingColumn {
-                        file: source.into(),
-                        coordinate: c.name.clone(),
-                    })?;
+            let Some(mut col) = storage.column(&c.name) else {
+                continue;
+            };
+            measured[i] = true;
             if in_degrees && c.motion_type == MotionType::Rotational {
                 col.iter_mut().for_each(|x| *x = x.to_radians());
             }
@@ -101,7 +121,13 @@ impl Kinematics {
                 a[s][i] = d2;
             }
         }
-        Ok(Self { time, q, v, a })
+        Ok(Self {
+            time,
+            q,
+            v,
+            a,
+            measured,
+        })
     }
 
     /// Number of samples.
@@ -145,6 +171,7 @@ impl Kinematics {
             v: interp(&self.v),
             a: interp(&self.a),
             time: times,
+            measured: self.measured.clone(),
         }
     }
 }

@@ -33,6 +33,8 @@ pub struct GaitCoordinate {
     pub motion_type: MotionType,
     /// Index in `Model::passive_torques`, if the coordinate has a passive torque.
     pub passive: Option<usize>,
+    /// Range of the coordinate in the model file `[min, max]` [rad or m].
+    pub range: [f64; 2],
 }
 
 /// The gait view of a model (problem order of coordinates and muscles, mirror maps).
@@ -71,6 +73,9 @@ pub enum GaitModelError {
         /// The expected mirror name.
         mirror: String,
     },
+    /// The model has no contact sphere, so its feet cannot push on the ground.
+    #[error("the model has no foot contact: add SmoothSphereHalfSpaceForce elements to the .osim file or contact spheres (`[[contact.spheres]]`) to its settings file")]
+    NoContact,
     /// The model has no polynomial muscle geometry.
     #[error("the model has no fitted muscle geometry (run `stride model fit`)")]
     NoGeometry,
@@ -102,6 +107,9 @@ pub fn mirror_name(name: &str) -> String {
 impl GaitModel {
     /// Classify the coordinates and muscles of `model`.
     pub fn new(model: &Model) -> Result<Self, GaitModelError> {
+        if model.contacts.is_empty() {
+            return Err(GaitModelError::NoContact);
+        }
         let root_joint = model
             .joints
             .iter()
@@ -172,6 +180,7 @@ impl GaitModel {
                         .passive_torques
                         .iter()
                         .position(|p| p.coordinate == ci),
+                    range: c.range,
                 });
             }
         }

@@ -3,6 +3,8 @@
 //! - [`settings`]: every option of a prediction (study-file schema), paper defaults.
 //! - [`size`]: NLP size and peak memory of a solve, estimated before building it.
 //! - [`gait`]: the gait view of a model (coordinate roles, mirror maps).
+//! - [`bounds_model`], [`passive_rules`]: bounds and passive torques of a model from the
+//!   model alone (PredSim's rules).
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
 //! - [`contact_geometry`]: contact-sphere geometry files (calibrated spheres).
@@ -14,6 +16,7 @@
 pub mod bench;
 pub mod bounds;
 pub mod contact_geometry;
+pub mod bounds_model;
 pub mod data;
 pub mod experimental;
 pub mod figures;
@@ -24,6 +27,7 @@ pub mod layout;
 pub mod measures;
 pub mod node;
 pub mod outputs;
+pub mod passive_rules;
 pub mod predict;
 pub mod problem;
 pub mod radau;

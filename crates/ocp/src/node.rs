@@ -34,6 +34,16 @@ pub struct NodeModel {
     prosthetic: Vec<Option<f64>>,
     /// Problem indices of the actuator-driven coordinates.
     actuator_driven: Vec<usize>,
+    /// Per actuator-driven coordinate: its passive torque element when that has a limit
+    /// torque (else the arm damping applies).
+    actuator_passive: Vec<Option<usize>>,
+    /// Per actuator-driven coordinate: optimal force / arm torque scale (1 for 150 N m).
+    actuator_gain: Vec<f64>,
+    /// The passive-torque cost counts only limit torques (PredSim) instead of the whole
+    /// passive torques.
+    limit_only_cost: bool,
+    /// Per problem coordinate: the model's coordinate force elements (springs) acting on it.
+    springs: Vec<Vec<usize>>,
     /// Per muscle-driven coordinate: (problem muscle, flat moment-arm index); removed
     /// muscles have no terms.
     torque_terms: Vec<Vec<(usize, usize)>>,
@@ -117,6 +127,8 @@ pub struct NodeWorkspace<T: Scalar> {
     vmt: Vec<T>,
     arms: Vec<T>,
     tendon: Vec<T>,
+    /// Passive torque per problem coordinate [N m or N] (0 for the root).
+    passive: Vec<T>,
 }
 
 /// Metabolic model of the cost from the settings name.
@@ -165,6 +177,11 @@ impl NodeModel {
             .map(|&(i, _)| {
                 let c = g.coordinates[i].model_index;
                 let mut terms = Vec::new();
+                if p.settings.passive.toes == crate::passive_rules::ToeDrive::Passive
+                    && crate::passive_rules::is_toe(&g.coordinates[i].name)
+                {
+                    return terms;
+                }
                 for (mi, om) in ocp_of_model.iter().enumerate() {
                     let poly = paths.polynomial(mi);
                     if let (Some(om), Some(k)) =
@@ -190,11 +207,13 @@ impl NodeModel {
             })
             .collect();
         let mut distances = Vec::new();
-        for d in &p.settings.min_distances {
+        let listed = p.settings.min_distances.as_ref();
+        for d in listed.unwrap_or(&model.distance_constraints) {
             let body = |n: &str| {
-                model
-                    .body_index(n)
-                    .ok_or_else(|| ProblemError::UnknownBody(n.to_string()))
+                model.body_index(n).ok_or_else(|| {
+                    let [a, b] = d.bodies.clone();
+                    ProblemError::UnknownBody(a, b, n.to_string())
+                })
             };
             distances.push((
                 body(&d.bodies[0])?,
@@ -204,7 +223,39 @@ impl NodeModel {
             ));
         }
         let s = &p.scaling;
+        let actuator_passive = g
+            .actuator_driven()
+            .into_iter()
+            .map(|i| {
+                g.coordinates[i]
+                    .passive
+                    .filter(|&pi| model.passive_torques[pi].has_limit())
+            })
+            .collect();
+        let actuator_gain = g
+            .actuator_driven()
+            .into_iter()
+            .map(|i| match g.coordinates[i].actuation {
+                crate::gait::Actuation::Actuator(a) => {
+                    model.actuators[a].optimal_force / s.arm_torque
+                }
+                _ => 1.0,
+            })
+            .collect();
+        let springs = g
+            .coordinates
+            .iter()
+            .map(|c| {
+                (0..model.coordinate_forces.len())
+                    .filter(|&f| model.coordinate_forces[f].coordinate == c.model_index)
+                    .collect()
+            })
+            .collect();
         Ok(Self {
+            springs,
+            actuator_passive,
+            actuator_gain,
+            limit_only_cost: p.passive_cost_limit_only,
             inputs,
             coord_model: g.coordinates.iter().map(|c| c.model_index).collect(),
             locked: g.locked.clone(),
@@ -313,6 +364,7 @@ impl NodeModel {
             vmt: vec![T::zero(); nm],
             arms: vec![T::zero(); self.paths.n_moment_arms()],
             tendon: vec![T::zero(); self.hill.len()],
+            passive: vec![T::zero(); self.coord_model.len()],
         })
     }
 
@@ -416,7 +468,17 @@ impl NodeModel {
                 ),
                 (None, None) => T::zero(),
             };
-            if self.prosthetic[t].is_none() {
+            let tp = self.add_springs(i, tp, ws.q[c], ws.v[c]);
+            ws.passive[i] = tp;
+            if self.limit_only_cost {
+                if let Some(pi) = passive.filter(|&pi| self.model.passive_torques[pi].has_limit()) {
+                    let tl = stride_muscle::passive::limit_torque(
+                        &self.model.passive_torques[pi],
+                        ws.q[c],
+                    );
+                    sum_tp2 += tl * tl;
+                }
+            } else if self.prosthetic[t].is_none() {
                 sum_tp2 += tp * tp;
             }
             y[out] = tau[c] - (muscle + tp);
@@ -426,9 +488,26 @@ impl NodeModel {
         let mut sum_arm_acc2 = T::zero();
         for (k, &i) in self.actuator_driven.iter().enumerate() {
             let c = self.coord_model[i];
-            let tp = -ws.v[c] * ARM_DAMPING;
-            sum_tp2 += tp * tp;
-            y[out] = tau[c] / self.s_arm - (x[io.arm() + k] + tp / self.s_arm);
+            let (tp, limit) = match self.actuator_passive[k] {
+                Some(pi) => {
+                    let e = &self.model.passive_torques[pi];
+                    let tp = stride_muscle::passive::passive_torque(e, ws.q[c], ws.v[c]);
+                    (tp, Some(stride_muscle::passive::limit_torque(e, ws.q[c])))
+                }
+                None => (-ws.v[c] * ARM_DAMPING, None),
+            };
+            let tp = self.add_springs(i, tp, ws.q[c], ws.v[c]);
+            ws.passive[i] = tp;
+            match (self.limit_only_cost, limit) {
+                (false, _) => sum_tp2 += tp * tp,
+                (true, Some(tl)) => sum_tp2 += tl * tl,
+                (true, None) => {}
+            }
+            let torque = match self.actuator_gain[k] {
+                g if g == 1.0 => x[io.arm() + k],
+                g => x[io.arm() + k] * g,
+            };
+            y[out] = tau[c] / self.s_arm - (torque + tp / self.s_arm);
             out += 1;
             sum_e_arm2 += x[io.e_arm() + k].sq();
             sum_arm_acc2 += x[io.qdd() + i].sq();
@@ -471,8 +550,12 @@ impl NodeModel {
         let n_kept = self.removed.iter().filter(|&&r| !r).count().max(1) as f64;
         let na = self.actuator_driven.len().max(1) as f64;
         let n_prosthetic = self.prosthetic.iter().filter(|k| k.is_some()).count();
-        let n_tp =
-            (self.muscle_driven.len() + self.actuator_driven.len() - n_prosthetic).max(1) as f64;
+        let n_tp = if self.limit_only_cost {
+            self.n_limit_torques()
+        } else {
+            self.muscle_driven.len() + self.actuator_driven.len() - n_prosthetic
+        }
+        .max(1) as f64;
         let mut l = sum_a2 * (w.activation / n_kept)
             + sum_acc2 * (w.acceleration / n_acc.max(1) as f64)
             + sum_tp2 * (w.passive_torque / n_tp)
@@ -512,6 +595,26 @@ pub struct SampleOutputs {
 }
 
 impl NodeModel {
+    /// `tp` plus the generalised forces of the model's springs on problem coordinate `i`
+    /// at value `q` and speed `v` (`tp` itself when it has none).
+    fn add_springs<T: Scalar>(&self, i: usize, tp: T, q: T, v: T) -> T {
+        self.springs[i].iter().fold(tp, |t, &f| {
+            t + stride_multibody::elements::coordinate_force(
+                &self.model.coordinate_forces[f].law,
+                q,
+                v,
+            )
+        })
+    }
+
+    /// Number of driven coordinates with a limit torque (the passive-torque cost terms of
+    /// PredSim).
+    fn n_limit_torques(&self) -> usize {
+        let has = |p: Option<usize>| p.is_some_and(|pi| self.model.passive_torques[pi].has_limit());
+        self.muscle_driven.iter().filter(|(_, p)| has(*p)).count()
+            + self.actuator_passive.iter().filter(|p| has(**p)).count()
+    }
+
     /// Evaluate the node function on `f64` and collect the physical quantities.
     pub fn sample(&self, ws: &mut NodeWorkspace<f64>, x: &[f64]) -> SampleOutputs {
         let mut y = vec![0.0; self.n_outputs()];
@@ -560,20 +663,13 @@ impl NodeModel {
                     .total,
             );
         }
-        for (t, &(i, passive)) in self.muscle_driven.iter().enumerate() {
-            let c = self.coord_model[i];
-            if let Some(k) = self.prosthetic[t] {
-                out.passive[i] = -k * ws.q[c];
-            } else if let Some(pi) = passive {
-                out.passive[i] = stride_muscle::passive::passive_torque(
-                    &self.model.passive_torques[pi],
-                    ws.q[c],
-                    ws.v[c],
-                );
-            }
-        }
-        for &i in &self.actuator_driven {
-            out.passive[i] = -ws.v[self.coord_model[i]] * ARM_DAMPING;
+        for &i in self
+            .muscle_driven
+            .iter()
+            .map(|(i, _)| i)
+            .chain(&self.actuator_driven)
+        {
+            out.passive[i] = ws.passive[i];
         }
         out
     }

@@ -168,7 +168,7 @@ pub fn guess_point(problem: &GaitProblem, g: GuessKind) -> Result<Vec<f64>, Pred
         GuessKind::QuasiRandom => None,
     };
     let kin = storage
-        .map(|s| Kinematics::from_storage(&s, &problem.gait, "guess kinematics"))
+        .map(|s| Kinematics::matching(&s, &problem.gait, "guess kinematics"))
         .transpose()
         .map_err(ProblemError::from)?;
     Ok(problem.initial_guess(g, kin.as_ref())?)

@@ -5,6 +5,7 @@ use crate::bounds::CoordinateBounds;
 use crate::experimental::Kinematics;
 use crate::gait::{GaitModel, GaitModelError};
 use crate::layout::{Layout, Point};
+use crate::passive_rules::PassiveCost;
 use crate::settings::{CycleKind, ProblemSettings, PROSTHESIS_BODIES, PROSTHESIS_REMOVED_MUSCLES};
 use stride_model::Model;
 
@@ -60,9 +61,12 @@ pub enum ProblemError {
     /// A model function could not be prepared.
     #[error("model: {0}")]
     Model(String),
-    /// A body named in the settings does not exist.
-    #[error("min_distances: unknown body `{0}`")]
-    UnknownBody(String),
+    /// A distance constraint names a body the model does not have.
+    #[error("distance constraint `{0}`–`{1}`: the model has no body `{2}` (remove it from `min_distances` or from the model's settings file)")]
+    UnknownBody(String, String, String),
+    /// The gait outputs need a body the model does not have.
+    #[error("the model has no body `{0}` (the gait outputs need both calcanei, `calcn_r` and `calcn_l`)")]
+    MissingBody(String),
     /// A muscle named in the settings does not exist.
     #[error("strength: unknown muscle `{0}`")]
     UnknownMuscle(String),
@@ -173,6 +177,9 @@ pub struct GaitProblem {
     pub scaling: Scaling,
     /// Body mass used in the cost, %BW and the cost of transport [kg].
     pub body_mass: f64,
+    /// Whether the passive-torque cost counts only the limit torques (PredSim) rather
+    /// than the whole passive torques (the 2019 formulation).
+    pub passive_cost_limit_only: bool,
 }
 
 impl GaitProblem {
@@ -214,8 +221,17 @@ impl GaitProblem {
                 .and_then(|g| g.apply(&mut model, &path.display().to_string()))
                 .map_err(|e| ProblemError::Model(e.to_string()))?;
         }
-        let gait = GaitModel::new(&model)?;
-        let data = Kinematics::from_storage(bounds_data, &gait, "bounds kinematics")?;
+        let mut gait = GaitModel::new(&model)?;
+        let generated = crate::passive_rules::apply(&mut model, &gait, &settings.passive);
+        if generated {
+            gait = GaitModel::new(&model)?;
+        }
+        let passive_cost_limit_only = match settings.passive.cost {
+            PassiveCost::Auto => generated,
+            PassiveCost::Total => false,
+            PassiveCost::Limit => true,
+        };
+        let data = Kinematics::matching(bounds_data, &gait, "bounds kinematics")?;
         let bounds = CoordinateBounds::new(&gait, &data, settings)?;
         let scaling = Scaling::new(&bounds);
         let na = gait.actuator_driven().len();
@@ -229,6 +245,7 @@ impl GaitProblem {
             bounds,
             scaling,
             body_mass,
+            passive_cost_limit_only,
         })
     }
 

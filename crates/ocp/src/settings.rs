@@ -39,14 +39,18 @@ pub struct ProblemSettings {
     pub coordinate_bounds: Vec<CoordinateBound>,
     /// Transcription variant.
     pub transcription: TranscriptionVariant,
-    /// Minimum horizontal distances between body origins (prevent segment interpenetration).
-    pub min_distances: Vec<DistanceConstraint>,
+    /// Minimum horizontal distances between body origins (prevent segment interpenetration);
+    /// absent: the model's own (`distances` of its settings file).
+    pub min_distances: Option<Vec<DistanceConstraint>>,
     /// Passive transtibial prosthesis on the right leg (FORMULATION 12.1); needs
     /// `cycle = "full-periodic"`.
     pub prosthesis: Option<Prosthesis>,
     /// Contact geometry file (TOML, as `stride track --calibrate-contact` writes it) whose
     /// sphere centres and radii replace the model's; unset: the model's spheres.
     pub contact_geometry: Option<std::path::PathBuf>,
+    /// Passive joint torques of models without a passive torque table, springs and
+    /// damping of selected coordinates, and how the toes are driven.
+    pub passive: crate::passive_rules::PassiveSettings,
 }
 
 /// Default half-width of the friction law's smoothed transition at v_slip = v_t (a
@@ -99,37 +103,7 @@ pub const PROSTHESIS_BODIES: [&str; 4] = ["tibia_r", "talus_r", "calcn_r", "toes
 /// Coordinates driven by the prosthesis's passive torque −k q.
 pub const PROSTHESIS_COORDINATES: [&str; 2] = ["ankle_angle_r", "subtalar_angle_r"];
 
-/// Keep two body origins apart in the horizontal (ground x–z) plane.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DistanceConstraint {
-    /// The two bodies whose origins are kept apart.
-    pub bodies: [String; 2],
-    /// Minimum distance [m].
-    pub min: f64,
-    /// Maximum distance [m] (2 m: inactive).
-    #[serde(default = "default_max_distance")]
-    pub max: f64,
-}
-
-fn default_max_distance() -> f64 {
-    2.0
-}
-
-/// The paper's distance constraints (calcanei 9 cm, femur–hand 18 cm, tibiae 11 cm).
-pub fn paper_distances() -> Vec<DistanceConstraint> {
-    let d = |a: &str, b: &str, min: f64| DistanceConstraint {
-        bodies: [a.into(), b.into()],
-        min,
-        max: 2.0,
-    };
-    vec![
-        d("calcn_r", "calcn_l", 0.09),
-        d("femur_r", "hand_r", 0.18),
-        d("femur_l", "hand_l", 0.18),
-        d("tibia_r", "tibia_l", 0.11),
-    ]
-}
+pub use stride_model::model_settings::DistanceConstraint;
 
 impl Default for ProblemSettings {
     /// The paper's nominal problem.
@@ -149,9 +123,10 @@ impl Default for ProblemSettings {
             duration_bounds: None,
             coordinate_bounds: Vec::new(),
             transcription: TranscriptionVariant::V2,
-            min_distances: paper_distances(),
+            min_distances: None,
             prosthesis: None,
             contact_geometry: None,
+            passive: Default::default(),
         }
     }
 }
@@ -345,7 +320,8 @@ impl ProblemSettings {
         }
         self.validate_strength()?;
         self.validate_prosthesis()?;
-        for (i, d) in self.min_distances.iter().enumerate() {
+        self.validate_passive()?;
+        for (i, d) in self.min_distances.iter().flatten().enumerate() {
             check(
                 within(d.min, 0.0, 10.0) && within(d.max, 0.0, 10.0) && d.max > d.min,
                 &format!("min_distances[{i}]"),
@@ -404,6 +380,17 @@ impl ProblemSettings {
                 )?;
             }
         }
+        Ok(())
+    }
+
+    fn validate_passive(&self) -> Result<(), SettingsError> {
+        let p = &self.passive;
+        check(
+            within(p.damping, 0.0, 1e4),
+            "passive.damping",
+            p.damping,
+            "must lie in [0, 1e4] N m s/rad",
+        )?;
         Ok(())
     }
 

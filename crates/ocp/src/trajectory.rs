@@ -98,7 +98,7 @@ impl GaitProblem {
         let calcn = |side: &str| {
             self.model
                 .body_index(&format!("calcn_{side}"))
-                .ok_or_else(|| ProblemError::UnknownBody(format!("calcn_{side}")))
+                .ok_or_else(|| ProblemError::MissingBody(format!("calcn_{side}")))
         };
         let (cr, cl) = (calcn("r")?, calcn("l")?);
         let mut t = Trajectory::default();

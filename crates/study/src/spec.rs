@@ -81,7 +81,8 @@ pub struct StudyHeader {
     /// Threads per case for the function evaluations (the KKT factorisation uses one).
     #[serde(default = "one")]
     pub threads_per_case: usize,
-    /// OpenSim model file (default: the built-in subject model).
+    /// OpenSim model file, with its settings file `<model>.toml` beside it, or a shipped
+    /// model's name (`falisse2022`, …) (default: the built-in subject model).
     #[serde(default)]
     pub model: Option<PathBuf>,
     /// Guesses when the grid has no `guesses` axis.

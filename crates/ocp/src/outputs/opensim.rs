@@ -52,8 +52,9 @@ pub fn model_coordinates(problem: &GaitProblem, q: &[f64]) -> Vec<f64> {
     out
 }
 
-/// Write `model.osim`: a copy of the `.osim` the model was imported from, or the shipped
-/// OpenSim file of the built-in model. A model built in code (neither) gets no model file.
+/// Write `model.osim`: a copy of the `.osim` the model was imported from, the shipped
+/// OpenSim file of the built-in model, or that of a model shipped with stride (by its
+/// model name). A model built in code (none of these) gets no model file.
 pub(super) fn write_model(model: &Model, dir: &Path) -> Result<(), PredictError> {
     let p = dir.join(MODEL_FILE);
     match &model.source_file {
@@ -65,7 +66,10 @@ pub(super) fn write_model(model: &Model, dir: &Path) -> Result<(), PredictError>
         None if model.name == default_model().name => {
             write_file(dir, MODEL_FILE, DEFAULT_MODEL_OSIM)
         }
-        None => Ok(()),
+        None => match stride_model::shipped::shipped_by_model_name(&model.name) {
+            Some(s) => write_file(dir, MODEL_FILE, s.osim),
+            None => Ok(()),
+        },
     }
 }
 

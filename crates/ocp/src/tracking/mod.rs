@@ -188,7 +188,7 @@ impl TrackingProblem {
         let ps = ProblemSettings {
             mesh_intervals: settings.mesh_intervals,
             cycle: CycleKind::FullPeriodic,
-            min_distances: Vec::new(),
+            min_distances: Some(Vec::new()),
             ..Default::default()
         };
         let mut problem = GaitProblem::new(model, &ps, &files.motion.1)?;

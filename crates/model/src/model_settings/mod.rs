@@ -1,0 +1,614 @@
+//! A model's own settings file (`<model>.toml` beside the `.osim`): what an OpenSim file
+//! does not carry, or what the user wants to change, for a gait prediction — contact
+//! spheres, passive joint torques, coordinate actuators, per-muscle metabolic parameters,
+//! the fitted muscle-geometry file, distance constraints between bodies, springs on
+//! coordinates and gravity. Every field has a default; unknown keys are errors naming the
+//! file, line and key. [`ModelSettings::apply`] puts the settings into an imported
+//! [`Model`].
+
+use crate::model::{
+    ContactParameters, ContactSphere, CoordinateActuator, CoordinateForce, CoordinateForceLaw,
+    Model, PassiveJointTorque,
+};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+mod describe;
+pub use describe::DescribeError;
+
+/// Everything a model settings file can set (all optional; the defaults leave an imported
+/// `.osim` as it is, apart from the metabolic default rule).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ModelSettings {
+    /// Gravity vector in ground [m s⁻²]; absent: the `.osim` file's.
+    pub gravity: Option<[f64; 3]>,
+    /// Fitted muscle-geometry file (`stride model fit`), relative to the settings file;
+    /// absent: the per-user cache, fitted on first use.
+    pub geometry: Option<PathBuf>,
+    /// Foot–ground contact spheres.
+    pub contact: ContactSettings,
+    /// Passive joint torques per coordinate.
+    pub passive_torques: PassiveTorqueSettings,
+    /// Ideal torque (or force) actuators of coordinates, e.g. the arms; each replaces the
+    /// model's actuators of the same coordinate.
+    pub actuators: Vec<ActuatorSetting>,
+    /// Per-muscle parameters of the metabolic energy models.
+    pub metabolic: MetabolicSettings,
+    /// Bounds on the horizontal distance between body origins (anti-clipping constraints
+    /// of the gait problem); none unless listed.
+    pub distances: Vec<DistanceConstraint>,
+    /// Linear springs and dampers on coordinates (OpenSim `SpringGeneralizedForce`),
+    /// added to the model's coordinate forces.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub coordinate_springs: Vec<CoordinateSpring>,
+}
+
+/// Contact spheres between the feet and the ground half-space.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactSettings {
+    /// Contact law of every sphere listed here (defaults: the paper's generic parameters).
+    pub parameters: ContactParameters,
+    /// A point of the ground plane, in ground [m] (default: the origin).
+    pub plane_point: [f64; 3],
+    /// Outward unit normal of the ground half-space, in ground (default: +y).
+    pub plane_normal: [f64; 3],
+    /// The spheres; when the list is not empty it replaces the model's
+    /// `SmoothSphereHalfSpaceForce` elements (or supplies them when it has none).
+    pub spheres: Vec<SphereSetting>,
+}
+
+impl Default for ContactSettings {
+    /// No spheres; the paper's contact law on the plane y = 0.
+    fn default() -> Self {
+        Self {
+            parameters: ContactParameters::default(),
+            plane_point: [0.0; 3],
+            plane_normal: [0.0, 1.0, 0.0],
+            spheres: Vec::new(),
+        }
+    }
+}
+
+/// One contact sphere fixed on a body.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereSetting {
+    /// Name of the contact element (e.g. `contact_sphere_1_r`).
+    pub name: String,
+    /// Body carrying the sphere.
+    pub body: String,
+    /// Sphere centre in the body frame [m].
+    pub location: [f64; 3],
+    /// Radius [m].
+    pub radius: f64,
+}
+
+/// Where the passive joint torques of the coordinates come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PassiveTorqueRule {
+    /// The model's passive torques are replaced by the `table` when it is not empty, and
+    /// kept otherwise.
+    #[default]
+    Table,
+}
+
+/// Passive joint torques: `T = k1 exp(k2 (q − θ2)) + k3 exp(k4 (q − θ1)) − d q̇` [N m].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PassiveTorqueSettings {
+    /// How the torques are chosen.
+    pub rule: PassiveTorqueRule,
+    /// Torque laws by coordinate.
+    pub table: Vec<PassiveTorqueEntry>,
+}
+
+/// One passive torque law, applied to each coordinate listed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PassiveTorqueEntry {
+    /// Coordinates the law applies to.
+    pub coordinates: Vec<String>,
+    /// Stiffness coefficients `[k1, k2, k3, k4]` ([N m], [rad⁻¹], [N m], [rad⁻¹]);
+    /// default zero (damping only).
+    #[serde(default)]
+    pub k: [f64; 4],
+    /// Thresholds `[θ1 (lower), θ2 (upper)]` [rad]; default zero.
+    #[serde(default)]
+    pub theta: [f64; 2],
+    /// Linear damping d [N m s rad⁻¹]; default zero.
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// An ideal actuator of one coordinate: generalised force = `optimal_force` × control
+/// (or × activation, with an activation time constant).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ActuatorSetting {
+    /// The actuated coordinate.
+    pub coordinate: String,
+    /// Torque or force per unit control [N m or N].
+    pub optimal_force: f64,
+    /// Actuator name (default `<coordinate>_torque`).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Control bounds (default [−1, 1]).
+    #[serde(default = "unit_range")]
+    pub control_range: [f64; 2],
+    /// Activation time constant [s] (first-order activation dynamics, as an OpenSim
+    /// `ActivationCoordinateActuator`); absent: force follows the control directly.
+    #[serde(default)]
+    pub activation_time_constant: Option<f64>,
+}
+
+fn unit_range() -> [f64; 2] {
+    [-1.0, 1.0]
+}
+
+/// Per-muscle metabolic parameters; muscles without an entry get the defaults (PredSim's
+/// rule: slow-twitch fraction 0.5, specific tension 0.25 MPa).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MetabolicSettings {
+    /// Slow-twitch fraction of muscles without an entry (0–1).
+    pub default_slow_twitch_fraction: f64,
+    /// Specific tension of muscles without an entry [MPa].
+    pub default_specific_tension_mpa: f64,
+    /// A left muscle (`…_l`) without an entry uses the entry of its right muscle (`…_r`).
+    pub mirror_left: bool,
+    /// Entries by muscle name.
+    pub muscles: BTreeMap<String, MuscleMetabolic>,
+}
+
+impl Default for MetabolicSettings {
+    /// PredSim's defaults (0.5, 0.25 MPa), left muscles mirrored, no entries.
+    fn default() -> Self {
+        Self {
+            default_slow_twitch_fraction: 0.5,
+            default_specific_tension_mpa: 0.25,
+            mirror_left: true,
+            muscles: BTreeMap::new(),
+        }
+    }
+}
+
+/// Metabolic parameters of one muscle.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MuscleMetabolic {
+    /// Fraction of slow-twitch fibres (0–1).
+    pub slow_twitch_fraction: f64,
+    /// Specific tension σ [MPa] (gives the muscle mass).
+    pub specific_tension_mpa: f64,
+}
+
+/// Keep two body origins apart in the horizontal (ground x–z) plane.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DistanceConstraint {
+    /// The two bodies whose origins are kept apart.
+    pub bodies: [String; 2],
+    /// Minimum distance [m].
+    pub min: f64,
+    /// Maximum distance [m] (2 m: inactive).
+    #[serde(default = "default_max_distance")]
+    pub max: f64,
+}
+
+fn default_max_distance() -> f64 {
+    2.0
+}
+
+/// A linear spring and damper on a coordinate:
+/// `τ = −stiffness (q − rest) − damping q̇` [N m or N].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoordinateSpring {
+    /// The coordinate.
+    pub coordinate: String,
+    /// Stiffness [N m rad⁻¹ or N m⁻¹] (default 0).
+    #[serde(default)]
+    pub stiffness: f64,
+    /// Rest value [rad or m] (default 0).
+    #[serde(default)]
+    pub rest: f64,
+    /// Damping [N m s rad⁻¹ or N s m⁻¹] (default 0).
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// A settings file that cannot be read or does not fit the model.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelSettingsError {
+    /// The file could not be read.
+    #[error("{file}: {source}")]
+    Io {
+        /// The settings file.
+        file: String,
+        /// The reading error.
+        source: std::io::Error,
+    },
+    /// Not valid TOML, an unknown key or a value of the wrong type.
+    #[error("{file}:{line}: {message}")]
+    Syntax {
+        /// The settings file.
+        file: String,
+        /// Line (1-based).
+        line: usize,
+        /// What is wrong, with the key.
+        message: String,
+    },
+    /// A value does not fit the model or its range.
+    #[error("{file}: `{key}`: {message}")]
+    Value {
+        /// The settings file.
+        file: String,
+        /// Dotted key of the offending setting.
+        key: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl ModelSettings {
+    /// The settings file found beside a model file: `<stem>.toml` in the same folder.
+    pub fn beside(model_file: &Path) -> Option<PathBuf> {
+        let p = model_file.with_extension("toml");
+        p.is_file().then_some(p)
+    }
+
+    /// Read a settings file; a relative `geometry` path is made relative to its folder.
+    pub fn read(path: &Path) -> Result<Self, ModelSettingsError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| ModelSettingsError::Io {
+            file: file.clone(),
+            source,
+        })?;
+        let mut s = Self::parse(&text, &file)?;
+        if let Some(g) = &s.geometry {
+            if g.is_relative() {
+                let dir = path.parent().unwrap_or(Path::new("."));
+                s.geometry = Some(dir.join(g));
+            }
+        }
+        Ok(s)
+    }
+
+    /// Parse settings from TOML text; `file` names the source in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Self, ModelSettingsError> {
+        toml::from_str(text).map_err(|e| ModelSettingsError::Syntax {
+            file: file.into(),
+            line: e.span().map_or(1, |s| {
+                text[..s.start.min(text.len())].matches('\n').count() + 1
+            }),
+            message: e.message().trim().replace('\n', " "),
+        })
+    }
+
+    /// Put the settings into `model` (imported from `file`'s model): gravity, contact
+    /// spheres, passive torques, actuators, metabolic parameters, springs and distance
+    /// constraints. Errors name the key and the missing body or coordinate. The geometry
+    /// file is applied by the caller (it needs the geometry crate).
+    pub fn apply(&self, model: &mut Model, file: &str) -> Result<(), ModelSettingsError> {
+        let err = |key: String, message: String| ModelSettingsError::Value {
+            file: file.into(),
+            key,
+            message,
+        };
+        if let Some(g) = self.gravity {
+            if g.iter().any(|v| !v.is_finite()) {
+                return Err(err("gravity".into(), "must be finite".into()));
+            }
+            model.gravity = g;
+        }
+        self.apply_contacts(model).map_err(|(k, m)| err(k, m))?;
+        self.apply_passive_torques(model)
+            .map_err(|(k, m)| err(k, m))?;
+        self.apply_actuators(model).map_err(|(k, m)| err(k, m))?;
+        self.apply_metabolic(model).map_err(|(k, m)| err(k, m))?;
+        self.apply_springs(model).map_err(|(k, m)| err(k, m))?;
+        for (i, d) in self.distances.iter().enumerate() {
+            for b in &d.bodies {
+                if model.body_index(b).is_none() {
+                    return Err(err(
+                        format!("distances[{i}]"),
+                        format!("the model has no body `{b}`"),
+                    ));
+                }
+            }
+            if !(d.min.is_finite() && d.max.is_finite() && 0.0 <= d.min && d.min < d.max) {
+                return Err(err(
+                    format!("distances[{i}]"),
+                    format!("needs 0 ≤ min < max (m), got [{}, {}]", d.min, d.max),
+                ));
+            }
+        }
+        model.distance_constraints = self.distances.clone();
+        Ok(())
+    }
+}
+
+/// A failed setting: its dotted key and what is wrong.
+type KeyError = (String, String);
+
+fn coordinate(model: &Model, name: &str, key: &str) -> Result<usize, KeyError> {
+    model.coordinate_index(name).ok_or_else(|| {
+        (
+            key.to_string(),
+            format!("the model has no coordinate `{name}`"),
+        )
+    })
+}
+
+impl ModelSettings {
+    fn apply_contacts(&self, model: &mut Model) -> Result<(), KeyError> {
+        let c = &self.contact;
+        if c.spheres.is_empty() {
+            return Ok(());
+        }
+        let mut out = Vec::with_capacity(c.spheres.len());
+        for (i, s) in c.spheres.iter().enumerate() {
+            let key = format!("contact.spheres[{i}]");
+            let body = model
+                .body_index(&s.body)
+                .ok_or_else(|| (key.clone(), format!("the model has no body `{}`", s.body)))?;
+            if !(s.radius.is_finite() && s.radius > 0.0) {
+                return Err((key, format!("radius {} must be positive", s.radius)));
+            }
+            out.push(ContactSphere {
+                name: s.name.clone(),
+                body,
+                location: s.location,
+                radius: s.radius,
+                parameters: c.parameters,
+                plane_point: c.plane_point,
+                plane_normal: c.plane_normal,
+            });
+        }
+        model.contacts = out;
+        Ok(())
+    }
+
+    fn apply_passive_torques(&self, model: &mut Model) -> Result<(), KeyError> {
+        let PassiveTorqueRule::Table = self.passive_torques.rule;
+        if self.passive_torques.table.is_empty() {
+            return Ok(());
+        }
+        let mut out = Vec::new();
+        for (i, e) in self.passive_torques.table.iter().enumerate() {
+            let key = format!("passive_torques.table[{i}]");
+            for name in &e.coordinates {
+                out.push(PassiveJointTorque {
+                    coordinate: coordinate(model, name, &key)?,
+                    k: e.k,
+                    theta: e.theta,
+                    damping: e.damping,
+                });
+            }
+        }
+        out.sort_by_key(|p| p.coordinate);
+        if let Some(w) = out.windows(2).find(|w| w[0].coordinate == w[1].coordinate) {
+            let name = &model.coordinates[w[0].coordinate].name;
+            return Err((
+                "passive_torques.table".into(),
+                format!("coordinate `{name}` has two passive torques"),
+            ));
+        }
+        model.passive_torques = out;
+        Ok(())
+    }
+
+    fn apply_actuators(&self, model: &mut Model) -> Result<(), KeyError> {
+        for (i, a) in self.actuators.iter().enumerate() {
+            let key = format!("actuators[{i}]");
+            let c = coordinate(model, &a.coordinate, &key)?;
+            if !(a.optimal_force.is_finite() && a.optimal_force > 0.0) {
+                return Err((key, "optimal_force must be positive".into()));
+            }
+            model.actuators.retain(|x| x.coordinate != c);
+            model.actuators.push(CoordinateActuator {
+                name: a
+                    .name
+                    .clone()
+                    .unwrap_or_else(|| format!("{}_torque", a.coordinate)),
+                coordinate: c,
+                optimal_force: a.optimal_force,
+                control_range: a.control_range,
+                activation_time_constant: a.activation_time_constant,
+            });
+        }
+        Ok(())
+    }
+
+    fn apply_metabolic(&self, model: &mut Model) -> Result<(), KeyError> {
+        let m = &self.metabolic;
+        for name in m.muscles.keys() {
+            if model.muscle_index(name).is_none() {
+                return Err((
+                    format!("metabolic.muscles.{name}"),
+                    format!("the model has no muscle `{name}`"),
+                ));
+            }
+        }
+        for muscle in &mut model.muscles {
+            let right = muscle.name.strip_suffix("_l").map(|b| format!("{b}_r"));
+            let entry = m.muscles.get(&muscle.name).or_else(|| {
+                right
+                    .filter(|_| m.mirror_left)
+                    .and_then(|r| m.muscles.get(&r))
+            });
+            let (fst, sigma) = entry.map_or(
+                (
+                    m.default_slow_twitch_fraction,
+                    m.default_specific_tension_mpa,
+                ),
+                |e| (e.slow_twitch_fraction, e.specific_tension_mpa),
+            );
+            let key = format!("metabolic.muscles.{}", muscle.name);
+            if !(0.0..=1.0).contains(&fst) {
+                return Err((key, format!("slow_twitch_fraction {fst} is not in [0, 1]")));
+            }
+            if !(sigma.is_finite() && sigma > 0.0) {
+                return Err((
+                    key,
+                    format!("specific_tension_mpa {sigma} must be positive"),
+                ));
+            }
+            muscle.slow_twitch_fraction = fst;
+            muscle.specific_tension = sigma * 1.0e6;
+        }
+        Ok(())
+    }
+
+    fn apply_springs(&self, model: &mut Model) -> Result<(), KeyError> {
+        for (i, s) in self.coordinate_springs.iter().enumerate() {
+            let key = format!("coordinate_springs[{i}]");
+            let c = coordinate(model, &s.coordinate, &key)?;
+            if ![s.stiffness, s.rest, s.damping]
+                .iter()
+                .all(|v| v.is_finite())
+            {
+                return Err((key, "values must be finite".into()));
+            }
+            model.coordinate_forces.push(CoordinateForce {
+                name: format!("{}_spring", s.coordinate),
+                coordinate: c,
+                law: CoordinateForceLaw::Spring {
+                    stiffness: s.stiffness,
+                    rest_length: s.rest,
+                    viscosity: s.damping,
+                },
+            });
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::default_model::default_model;
+
+    #[test]
+    fn unknown_keys_name_file_line_and_key() {
+        let text = "gravity = [0.0, -9.81, 0.0]\n\n[contact]\nsphers = []\n";
+        let e = ModelSettings::parse(text, "m.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("m.toml:4: "), "{e}");
+        assert!(e.contains("sphers"), "{e}");
+        assert!(!e.contains('\n'), "{e}");
+        let e = ModelSettings::parse("[[actuators]]\ncoordinate = \"q\"\n", "m.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("optimal_force"), "{e}");
+    }
+
+    #[test]
+    fn defaults_leave_the_model_but_set_the_metabolic_default_rule() {
+        let mut m = default_model();
+        let before = m.clone();
+        ModelSettings::default().apply(&mut m, "-").unwrap();
+        assert_eq!(m.contacts.len(), before.contacts.len());
+        assert_eq!(m.passive_torques, before.passive_torques);
+        assert!(m.distance_constraints.is_empty());
+        assert!(m
+            .muscles
+            .iter()
+            .all(|x| x.slow_twitch_fraction == 0.5 && x.specific_tension == 0.25e6));
+    }
+
+    #[test]
+    fn settings_are_applied_by_name() {
+        let text = r#"
+gravity = [0.0, -9.8, 0.0]
+[contact]
+parameters = { stiffness = 2e6 }
+[[contact.spheres]]
+name = "heel_r"
+body = "calcn_r"
+location = [0.0, -0.01, 0.0]
+radius = 0.03
+[[passive_torques.table]]
+coordinates = ["knee_angle_r", "knee_angle_l"]
+k = [1.0, -2.0, 3.0, 4.0]
+theta = [-1.0, 0.1]
+damping = 0.1
+[[actuators]]
+coordinate = "lumbar_extension"
+optimal_force = 300.0
+activation_time_constant = 0.035
+[metabolic.muscles]
+soleus_r = { slow_twitch_fraction = 0.8, specific_tension_mpa = 0.6 }
+[[distances]]
+bodies = ["calcn_r", "calcn_l"]
+min = 0.09
+[[coordinate_springs]]
+coordinate = "knee_angle_r"
+stiffness = 25.0
+damping = 2.0
+"#;
+        let mut m = default_model();
+        ModelSettings::parse(text, "t.toml")
+            .unwrap()
+            .apply(&mut m, "t.toml")
+            .unwrap();
+        assert_eq!(m.gravity, [0.0, -9.8, 0.0]);
+        assert_eq!(m.contacts.len(), 1);
+        assert_eq!(m.contacts[0].parameters.stiffness, 2e6);
+        assert_eq!(m.contacts[0].parameters.dissipation, 2.0);
+        assert_eq!(m.passive_torques.len(), 2);
+        let a = m.actuators.last().unwrap();
+        assert_eq!(
+            (a.name.as_str(), a.optimal_force),
+            ("lumbar_extension_torque", 300.0)
+        );
+        let sol = |n: &str| &m.muscles[m.muscle_index(n).unwrap()];
+        assert_eq!(sol("soleus_l").slow_twitch_fraction, 0.8);
+        assert_eq!(sol("soleus_r").specific_tension, 0.6e6);
+        assert_eq!(sol("tib_ant_r").slow_twitch_fraction, 0.5);
+        assert_eq!(m.distance_constraints.len(), 1);
+        assert_eq!(m.distance_constraints[0].max, 2.0);
+        assert!(m
+            .coordinate_forces
+            .iter()
+            .any(|f| f.name == "knee_angle_r_spring"));
+    }
+
+    #[test]
+    fn names_missing_from_the_model_are_errors_with_their_key() {
+        for (text, want) in [
+            (
+                "[[contact.spheres]]\nname = \"s\"\nbody = \"foot\"\nlocation = [0.0, 0.0, 0.0]\nradius = 0.03",
+                "t.toml: `contact.spheres[0]`: the model has no body `foot`",
+            ),
+            (
+                "[[distances]]\nbodies = [\"calcn_r\", \"hand_x\"]\nmin = 0.1",
+                "t.toml: `distances[0]`: the model has no body `hand_x`",
+            ),
+            (
+                "[[actuators]]\ncoordinate = \"elbow\"\noptimal_force = 1.0",
+                "t.toml: `actuators[0]`: the model has no coordinate `elbow`",
+            ),
+            (
+                "[[passive_torques.table]]\ncoordinates = [\"knee\"]",
+                "t.toml: `passive_torques.table[0]`: the model has no coordinate `knee`",
+            ),
+            (
+                "[metabolic.muscles]\nsol = { slow_twitch_fraction = 0.5, specific_tension_mpa = 0.3 }",
+                "t.toml: `metabolic.muscles.sol`: the model has no muscle `sol`",
+            ),
+        ] {
+            let mut m = default_model();
+            let e = ModelSettings::parse(text, "t.toml")
+                .unwrap()
+                .apply(&mut m, "t.toml")
+                .unwrap_err();
+            assert_eq!(e.to_string(), want);
+        }
+    }
+}
