@@ -7,6 +7,11 @@
 //! a helix on the cylinder (the straight lines and the helix unroll into one straight
 //! line) and a great-circle arc on the sphere — so its length is generic over the scalar
 //! and its derivatives are exact.
+//!
+//! Exception: on a path with a single wrap, OpenSim keeps the cylinder's tangent heights
+//! from its apex-plane construction, which is not the shortest path; that case is
+//! reproduced on primal values with the tangent points fixed on the cylinder, which is
+//! how OpenSim's moment arms treat them.
 
 use crate::kinematics::Vec3;
 use stride_ad::Scalar;
