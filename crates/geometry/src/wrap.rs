@@ -83,11 +83,18 @@ impl PreparedWrapObject {
         (r, o)
     }
 
-    /// Wraps the segment `a`–`b` (wrap frame [m]); `method` chooses an ellipsoid's plane.
-    fn wrap<T: Scalar>(&self, a: &Vec3<T>, b: &Vec3<T>, method: WrapMethod) -> WrapAction<T> {
+    /// Wraps the segment `a`–`b` (wrap frame [m]); `method` chooses an ellipsoid's plane,
+    /// `single` tells that the path has no other wrap (cylinders).
+    fn wrap<T: Scalar>(
+        &self,
+        a: &Vec3<T>,
+        b: &Vec3<T>,
+        method: WrapMethod,
+        single: bool,
+    ) -> WrapAction<T> {
         match self.shape {
             WrapShape::Cylinder { radius, length } => {
-                wrap_cylinder(a, b, radius, length, self.quadrant)
+                wrap_cylinder(a, b, radius, length, self.quadrant, single)
             }
             WrapShape::Sphere { radius } => wrap_sphere(a, b, radius, self.quadrant),
             WrapShape::Ellipsoid { radii } => {
@@ -240,7 +247,7 @@ fn best_wrap<T: Scalar>(
             continue;
         }
         let (a, b) = (to_local(&n1.at), to_local(&n2.at));
-        match object.wrap(&a, &b, wraps[w].method) {
+        match object.wrap(&a, &b, wraps[w].method, wraps.len() == 1) {
             WrapAction::Mandatory(sp) => {
                 code = Code::Wrapped;
                 best = Some((pt1, sp));

@@ -7,6 +7,11 @@
 //! a helix on the cylinder (the straight lines and the helix unroll into one straight
 //! line) and a great-circle arc on the sphere — so its length is generic over the scalar
 //! and its derivatives are exact.
+//!
+//! Exception: on a path with a single wrap, OpenSim keeps the cylinder's tangent heights
+//! from its apex-plane construction, which is not the shortest path; that case is
+//! reproduced on primal values with the tangent points fixed on the cylinder, which is
+//! how OpenSim's moment arms treat them.
 
 use crate::kinematics::Vec3;
 use stride_ad::Scalar;
@@ -121,14 +126,15 @@ fn v2<T: Scalar>(a: [T; 2]) -> [f64; 2] {
     [a[0].value(), a[1].value()]
 }
 
-/// Which tangent candidates a cylinder wrap uses (`true` = candidate `a`) and whether it
-/// goes the long way round, by OpenSim's rules.
+/// Which tangent candidates a cylinder wrap uses (`true` = candidate `a`), whether it
+/// goes the long way round, and OpenSim's `far_side_wrap` (which side the apex of its
+/// tangent-height construction lies on), by OpenSim's rules.
 fn cylinder_choice(
     p: [[f64; 3]; 2],
     c1: [[f64; 2]; 2],
     c2: [[f64; 2]; 2],
     quadrant: Option<WrapQuadrant>,
-) -> (bool, bool, bool) {
+) -> (bool, bool, bool, bool) {
     let Some(q) = quadrant else {
         // The pair with the smallest angle between the radial directions.
         let d = [
@@ -146,7 +152,7 @@ fn cylinder_choice(
         } else {
             (false, false)
         };
-        return (pick.0, pick.1, false);
+        return (pick.0, pick.1, false, false);
     };
     // Candidate coordinate along the quadrant axis (z candidates keep the point's z).
     let comp = |c: [f64; 2], z: f64| if q.axis == 2 { z } else { c[q.axis] };
@@ -178,17 +184,22 @@ fn cylinder_choice(
         r1[1] - p[0][1] + r2[1] - p[1][1],
     ];
     let radial = [r1[0] + r2[0], r1[1] + r2[1]];
-    (pick1, pick2, dot2(radial, musc) < 0.0)
+    let none_on = !r1a_on && !r1b_on && !on(comp(c2[0], z2)) && !on(comp(c2[1], z2));
+    let far = none_on || (pick1 == (alpha > beta));
+    (pick1, pick2, dot2(radial, musc) < 0.0, far)
 }
 
 /// Wraps the segment `p1`–`p2` (cylinder frame [m]) over the cylinder of `radius` and
-/// `length` along z centred on the origin.
+/// `length` along z centred on the origin. `single`: the path has no other wrap; OpenSim
+/// then keeps the tangent heights of its apex-plane construction (not the shortest
+/// helix), reproduced by [`single_cylinder_path`].
 pub(crate) fn wrap_cylinder<T: Scalar>(
     p1: &Vec3<T>,
     p2: &Vec3<T>,
     radius: f64,
     length: f64,
     quadrant: Option<WrapQuadrant>,
+    single: bool,
 ) -> WrapAction<T> {
     let r2 = radius * radius;
     let (a, b) = (values(p1), values(p2));
@@ -214,7 +225,7 @@ pub(crate) fn wrap_cylinder<T: Scalar>(
     };
     let c1 = circle_tangents([p1[0], p1[1]], radius);
     let c2 = circle_tangents([p2[0], p2[1]], radius);
-    let (pick1, pick2, long) = cylinder_choice(
+    let (pick1, pick2, long, far) = cylinder_choice(
         [a, b],
         [v2(c1[0]), v2(c1[1])],
         [v2(c2[0]), v2(c2[1])],
@@ -222,6 +233,18 @@ pub(crate) fn wrap_cylinder<T: Scalar>(
     );
     let t1 = if pick1 { c1[0] } else { c1[1] };
     let t2 = if pick2 { c2[0] } else { c2[1] };
+    if single {
+        let tangents = [v2(t1), v2(t2)];
+        let Some(path) = single_cylinder_path([a, b], tangents, radius, length, long, far) else {
+            return WrapAction::NoWrap;
+        };
+        return if mandatory {
+            WrapAction::Mandatory(path)
+        } else {
+            WrapAction::Wrapped(path)
+        }
+        .to_constant();
+    }
     let mut theta = arc_angle(t1, t2);
     if long {
         theta = theta.rsub(2.0 * std::f64::consts::PI);
@@ -250,6 +273,64 @@ pub(crate) fn wrap_cylinder<T: Scalar>(
     } else {
         WrapAction::Wrapped(path)
     }
+}
+
+/// OpenSim's surface path over a cylinder for a path with one wrap, on primal values:
+/// the tangent points `t` (x, y) take their heights from the plane through both end
+/// points `p` and an apex on the cylinder's surface (on the far side with `far`), and the
+/// path is the helix between them, `long` the long way round. `None` when both tangent
+/// points lie beyond the cylinder's ends.
+fn single_cylinder_path(
+    p: [[f64; 3]; 2],
+    t: [[f64; 2]; 2],
+    radius: f64,
+    length: f64,
+    long: bool,
+    far: bool,
+) -> Option<SurfacePath<f64>> {
+    use crate::vec3::{cross, dot, sub, unit};
+    let [a, b] = p;
+    let (n1, n2) = (a[0].hypot(a[1]), b[0].hypot(b[1]));
+    let s = n1 / (n1 + n2);
+    let mpt: [f64; 3] = std::array::from_fn(|k| a[k] + s * (b[k] - a[k]));
+    let axis_pt = [0.0, 0.0, mpt[2]];
+    let normal = unit(&cross(&unit(&sub(&a, &axis_pt)), &unit(&sub(&b, &axis_pt))));
+    let vert = unit(&cross(&[0.0, 0.0, 1.0], &normal));
+    let apex1: [f64; 3] = std::array::from_fn(|k| axis_pt[k] + radius * vert[k]);
+    let apex2: [f64; 3] = std::array::from_fn(|k| axis_pt[k] - radius * vert[k]);
+    let d2 = |x: &[f64; 3], y: &[f64; 3]| dot(&sub(x, y), &sub(x, y));
+    let nearer_first = d2(&mpt, &apex1) < d2(&mpt, &apex2);
+    let apex = if nearer_first != far { apex1 } else { apex2 };
+    let plane = unit(&cross(&unit(&sub(&a, &apex)), &unit(&sub(&b, &apex))));
+    let offset = -dot(&a, &plane);
+    // Slide each tangent point along the cylinder onto that plane, unless that moves it
+    // beyond the other end point's height.
+    let height = |t: [f64; 2], own: f64, other: f64| {
+        if plane[2] == 0.0 {
+            return own;
+        }
+        let z = -(dot(&plane, &[t[0], t[1], 0.0]) + offset) / plane[2];
+        if (z - own).abs() <= 10.0 && (z - other).abs() < (own - other).abs() {
+            z
+        } else {
+            own
+        }
+    };
+    let z1 = height(t[0], a[2], b[2]);
+    let z2 = height(t[1], b[2], a[2]);
+    let half = 0.5 * length;
+    if z1.abs() > half && z2.abs() > half {
+        return None;
+    }
+    let mut theta = (t[0][0] * t[1][1] - t[0][1] * t[1][0]).atan2(dot2(t[0], t[1]));
+    if long {
+        theta = 2.0 * std::f64::consts::PI - theta;
+    }
+    Some(SurfacePath {
+        r1: [t[0][0], t[0][1], z1],
+        r2: [t[1][0], t[1][1], z2],
+        length: (radius * theta).hypot(z2 - z1),
+    })
 }
 
 /// Closest point of the line through `a`, `b` to the z axis: the point, its parameter
