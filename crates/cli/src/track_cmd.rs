@@ -30,7 +30,7 @@ pub struct TrackArgs {
     #[arg(long)]
     pub torques: Option<PathBuf>,
     /// Time window start and end [s] (default 3.45,4.25).
-    #[arg(long, value_delimiter = ',', num_args = 2)]
+    #[arg(long, value_delimiter = ',')]
     pub window: Option<Vec<f64>>,
     /// Mesh intervals over the window (default 50).
     #[arg(long)]

@@ -52,9 +52,9 @@ fn derivatives_with_respect_to_sphere_centre_and_radius_match_finite_differences
     for field in 0..3 {
         let mut gd = SphereGeometry::<Dual>::of_model(&model);
         let set = |g: &mut [SphereGeometry<Dual>], d: Dual| match field {
-            0 => g[0].location[0] = g[0].location[0] + d,
-            1 => g[0].location[2] = g[0].location[2] + d,
-            _ => g[0].radius = g[0].radius + d,
+            0 => g[0].location[0] += d,
+            1 => g[0].location[2] += d,
+            _ => g[0].radius += d,
         };
         set(&mut gd, Dual::new(0.0, 1.0));
         let od = run(&model, Some(&gd));
