@@ -63,8 +63,7 @@ fn a_distance_constraint_naming_a_missing_body() {
     let data = stride_ocp::predict::bounds_data(&settings);
     let e = GaitProblem::new(&m, &settings, &data)
         .and_then(|p| stride_ocp::node::NodeModel::new(&p).map(|_| ()))
-        .err()
-        .expect("the constraint should be rejected")
+        .expect_err("the constraint should be rejected")
         .to_string();
     assert_eq!(
         e,
