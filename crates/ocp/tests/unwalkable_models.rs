@@ -8,9 +8,7 @@ use stride_ocp::problem::GaitProblem;
 use stride_ocp::settings::{DistanceConstraint, ProblemSettings};
 
 fn gait_error(m: &stride_model::Model) -> String {
-    let e = GaitModel::new(m)
-        .err()
-        .expect("the model should be rejected");
+    let e = GaitModel::new(m).expect_err("the model should be rejected");
     let s = e.to_string();
     assert!(!s.contains('\n'), "{s}");
     s
@@ -63,8 +61,7 @@ fn a_distance_constraint_naming_a_missing_body() {
     let data = stride_ocp::predict::bounds_data(&settings);
     let e = GaitProblem::new(&m, &settings, &data)
         .and_then(|p| stride_ocp::node::NodeModel::new(&p).map(|_| ()))
-        .err()
-        .expect("the constraint should be rejected")
+        .expect_err("the constraint should be rejected")
         .to_string();
     assert_eq!(
         e,
