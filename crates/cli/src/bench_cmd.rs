@@ -6,6 +6,7 @@ use anyhow::{bail, Context};
 use clap::{Args, Subcommand};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
+use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 use stride_ocp::predict;
@@ -112,6 +113,14 @@ pub struct PredictArgs {
     /// finer meshes, 0: none).
     #[arg(long)]
     pub presolve_mesh: Option<usize>,
+    /// Model: a shipped model's name or an `.osim` file (as `stride predict --model`)
+    /// [default: the built-in model].
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Prediction file whose `[problem]` settings (and `model`) are used (as `stride
+    /// predict --config`); `--mesh` overrides its mesh.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
 }
 
 /// Arguments of the hidden `stride bench predict-one`.
@@ -138,6 +147,12 @@ pub struct PredictOneArgs {
     /// Coarse mesh of the presolve.
     #[arg(long)]
     pub presolve_mesh: Option<usize>,
+    /// Model name or file.
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Prediction file of the problem settings.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
 }
 
 /// Measurements of one prediction case (the JSON line of `stride bench predict-one`).
@@ -323,8 +338,13 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
     }
     let exe = std::env::current_exe().context("locating the stride executable")?;
     println!(
-        "## Nominal prediction (1.33 m/s, {} mesh intervals, {}, tol 1e-4, adaptive μ, max {} iterations, {}); \
+        "## Prediction of {} ({} mesh intervals, {}, tol 1e-4, adaptive μ, max {} iterations, {}); \
          one child process per case, one thread (evaluations and linear algebra)\n",
+        match (&a.model, &a.config) {
+            (Some(m), _) => m.display().to_string(),
+            (None, Some(c)) => format!("the model and problem of {}", c.display()),
+            (None, None) => "the built-in model, 1.33 m/s".into(),
+        },
         a.mesh,
         presolve.map_or("no presolve".into(), |p| format!(
             "presolved on {} intervals (process s includes it)",
@@ -351,6 +371,12 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
             "--presolve-mesh",
             &presolve.map_or(0, |p| p.mesh_intervals).to_string(),
         ]);
+        if let Some(m) = &a.model {
+            cmd.arg("--model").arg(m);
+        }
+        if let Some(c) = &a.config {
+            cmd.arg("--config").arg(c);
+        }
         let t = Instant::now();
         let out = cmd
             .stdin(Stdio::null())
@@ -417,13 +443,14 @@ fn peak_rss_kib() -> Option<u64> {
 }
 
 fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
-    let settings = nominal_settings(a.mesh)?;
+    let (config_model, settings) = predict_cmd::config_problem(a.config.as_deref(), a.mesh)?;
     let solver = predict_cmd::backend(&a.backend)?;
     let guess = predict_cmd::parse_guess(&a.guess)?;
     let hessian = predict_cmd::parse_hessian(Some(&a.hessian), &a.backend)?;
     let options =
         predict_cmd::prediction_options(None, Some(a.max_iter), hessian, a.time_limit, None)?;
-    let model = stride_model::default_model::default_model();
+    let model =
+        crate::model_load::load_model(a.model.or(config_model).as_deref(), None, None, true)?;
     let presolve = predict::presolve_for(a.presolve_mesh, &settings)?;
     let (_, solved) = predict::solve_guesses(
         &model,

@@ -256,6 +256,24 @@ fn read_study_file(p: &Path) -> anyhow::Result<StudyFile> {
     toml::from_str(&text).with_context(|| format!("study file {}", p.display()))
 }
 
+/// The model and problem settings of a prediction file (`None`: the nominal problem), with
+/// `mesh` intervals, checked.
+pub(crate) fn config_problem(
+    config: Option<&Path>,
+    mesh: usize,
+) -> anyhow::Result<(Option<PathBuf>, ProblemSettings)> {
+    let study = match config {
+        Some(p) => read_study_file(p)?,
+        None => StudyFile::default(),
+    };
+    let mut settings = study.problem.unwrap_or_default();
+    settings.mesh_intervals = mesh;
+    settings
+        .validate()
+        .with_context(|| format!("--mesh {mesh}"))?;
+    Ok((study.model, settings))
+}
+
 /// The initial guesses named on the command line or in a study file, each at most once.
 pub(crate) fn parse_guesses(list: &[String]) -> anyhow::Result<Vec<GuessKind>> {
     let mut guesses = Vec::new();

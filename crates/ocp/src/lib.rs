@@ -15,8 +15,8 @@
 
 pub mod bench;
 pub mod bounds;
-pub mod contact_geometry;
 pub mod bounds_model;
+pub mod contact_geometry;
 pub mod data;
 pub mod experimental;
 pub mod figures;

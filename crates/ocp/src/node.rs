@@ -503,9 +503,11 @@ impl NodeModel {
                 (true, Some(tl)) => sum_tp2 += tl * tl,
                 (true, None) => {}
             }
-            let torque = match self.actuator_gain[k] {
-                g if g == 1.0 => x[io.arm() + k],
-                g => x[io.arm() + k] * g,
+            let gain = self.actuator_gain[k];
+            let torque = if gain == 1.0 {
+                x[io.arm() + k]
+            } else {
+                x[io.arm() + k] * gain
             };
             y[out] = tau[c] / self.s_arm - (torque + tp / self.s_arm);
             out += 1;

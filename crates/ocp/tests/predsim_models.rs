@@ -82,7 +82,7 @@ fn toes_get_model_bounds_and_predsims_passive_torque() {
     for (q, qd) in [(0.0, 0.0), (0.3, 1.0), (-0.2, -2.0), (1.2, 0.5)] {
         let expected = -25.0 * q - 2.0 * qd
             + (-0.9) * (14.87 * (q - 1.13446401379631f64)).exp()
-            + 0.18 * (-70.08 * q as f64).exp();
+            + 0.18 * (-70.08 * q).exp();
         let law = &spring("mtp_angle_l").unwrap().law;
         let got = stride_muscle::passive::passive_torque(e, q, qd)
             + stride_multibody::elements::coordinate_force(law, q, qd);

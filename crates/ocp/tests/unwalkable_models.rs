@@ -8,9 +8,7 @@ use stride_ocp::problem::GaitProblem;
 use stride_ocp::settings::{DistanceConstraint, ProblemSettings};
 
 fn gait_error(m: &stride_model::Model) -> String {
-    let Err(e) = GaitModel::new(m) else {
-        panic!("the model should be rejected");
-    };
+    let e = GaitModel::new(m).expect_err("the model should be rejected");
     let s = e.to_string();
     assert!(!s.contains('\n'), "{s}");
     s
