@@ -224,11 +224,14 @@ impl Storage {
                 });
             }
         }
-        let name = if self.name.is_empty() {
-            "stride"
-        } else {
-            &self.name
-        };
+        // The name is the first header line: one that would read back as something else
+        // (the end of the header, a key, the older `name` key, several lines) is replaced.
+        let n = self.name.trim();
+        let unsafe_name = n.is_empty()
+            || n.eq_ignore_ascii_case("endheader")
+            || n.contains(['=', '\n', '\r'])
+            || n.starts_with("name ");
+        let name = if unsafe_name { "stride" } else { n };
         let mut s = String::new();
         s.push_str(name);
         s.push('\n');
