@@ -1,5 +1,6 @@
 //! Every shipped study file parses, validates, and expands to the number of simulations of
-//! its family in ESM Table S3 (FORMULATION 13.1).
+//! its family in ESM Table S3 (FORMULATION 13.1), or the count its header comment gives for
+//! the studies beyond the paper (contact models, the toes model).
 
 use std::path::PathBuf;
 use stride_study::spec;
@@ -26,6 +27,8 @@ fn shipped_study_files_expand_to_table_s3_counts() {
         ("mesh100.toml", 2),
         ("prosthesis.toml", 2),
         ("contact_models.toml", 2 + 2),
+        ("falisse2022_nominal.toml", 2),
+        ("falisse2022_speeds.toml", 41),
     ];
     let mut found: Vec<String> = std::fs::read_dir(studies_dir())
         .unwrap()
