@@ -376,13 +376,13 @@ pub struct Transcription<F: NodeFunction> {
 impl<F: NodeFunction> Transcription<F> {
     /// Transcribe `problem` with the node function `node`, starting from `x0`.
     pub fn new(problem: GaitProblem, node: F, x0: Vec<f64>) -> Self {
-        Self::build(problem, node, x0, None, StaticBlock::default())
+        Self::with_statics(problem, node, x0, None, StaticBlock::default())
     }
 
     /// Transcribe the tracking problem `problem` with the node function `node` (whose
     /// inputs end with `tracking.n_data` constants), starting from `x0`.
     pub fn tracking(problem: GaitProblem, node: F, x0: Vec<f64>, tracking: TrackingData) -> Self {
-        Self::build(problem, node, x0, Some(tracking), StaticBlock::default())
+        Self::with_statics(problem, node, x0, Some(tracking), StaticBlock::default())
     }
 
     /// Transcribe `problem` (a prediction, or a tracking problem with `tracking`) with
@@ -390,16 +390,6 @@ impl<F: NodeFunction> Transcription<F> {
     /// function's inputs are its variable inputs, then the static parameters, then the
     /// tracking constants.
     pub fn with_statics(
-        problem: GaitProblem,
-        node: F,
-        x0: Vec<f64>,
-        tracking: Option<TrackingData>,
-        statics: StaticBlock,
-    ) -> Self {
-        Self::build(problem, node, x0, tracking, statics)
-    }
-
-    fn build(
         problem: GaitProblem,
         node: F,
         x0: Vec<f64>,
