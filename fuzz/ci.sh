@@ -1,13 +1,22 @@
 #!/usr/bin/env bash
-# Fuzz every target for a short time (seconds per target, default 50) with coverage, then
-# rerun the corpus and the saved crashes. Exits non-zero when an input panics or aborts.
+# Fuzz every target for a short time (seconds per target, default 50), then rerun the corpus
+# and the saved crashes. Exits non-zero when an input panics or aborts.
+#
+#   fuzz/ci.sh [SECONDS]          with coverage: its own instrumented release build (slow to build)
+#   fuzz/ci.sh [SECONDS] --blind  without coverage: random mutations of the committed corpus,
+#                                 on the ordinary debug build (debug assertions on), for CI
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-50}
-export RUSTC_WRAPPER=$PWD/fuzz/rustc-sancov.sh CARGO_TARGET_DIR=target/fuzz
-export CARGO_PROFILE_RELEASE_DEBUG_ASSERTIONS=true CARGO_PROFILE_RELEASE_DEBUG=0
-cargo build --release -p stride-fuzz
-bin=target/fuzz/release/stride-fuzz
+if [ "${2:-}" = "--blind" ]; then
+    cargo build -p stride-fuzz
+    bin=${CARGO_TARGET_DIR:-target}/debug/stride-fuzz
+else
+    export RUSTC_WRAPPER=$PWD/fuzz/rustc-sancov.sh CARGO_TARGET_DIR=target/fuzz
+    export CARGO_PROFILE_RELEASE_DEBUG_ASSERTIONS=true CARGO_PROFILE_RELEASE_DEBUG=0
+    cargo build --release -p stride-fuzz
+    bin=target/fuzz/release/stride-fuzz
+fi
 ref=../shared/reference
 for t in osim storage study; do
     seeds=()
