@@ -354,6 +354,10 @@ impl PathGeometry {
     /// Moment arms `r = −∂l/∂q_c` [m] of all muscles about coordinate `c` at `q`, exact
     /// (forward-mode dual numbers along `q_c`), into `out`. Muscles whose length cannot
     /// depend on `q_c` ([`MusclePaths::depends_on`]) get an exact 0 without evaluation.
+    /// On wrapped paths the tangent points are held fixed on their wrap objects, as in
+    /// OpenSim's moment arms; where OpenSim's wrapped length is not the shortest path
+    /// (ellipsoids, cylinders, paths with several wraps) these differ from the derivative
+    /// of the length.
     pub fn moment_arms(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
         let depends = &self.depends[c];
         if !depends.iter().any(|d| *d) {
@@ -373,8 +377,9 @@ impl PathGeometry {
         }
     }
 
-    /// Moment arms as [`PathGeometry::moment_arms`], by central finite differences with
-    /// step [`PathGeometry::fd_step`] (an independent check of the exact ones).
+    /// `−∂l/∂q_c` by central finite differences with step [`PathGeometry::fd_step`]: an
+    /// independent check of [`PathGeometry::moment_arms`] on paths without wrapping (see
+    /// there for wrapped paths).
     pub fn moment_arms_fd(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
         let h = self.fd_step;
         self.q_work.copy_from_slice(q);
