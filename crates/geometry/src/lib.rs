@@ -5,13 +5,14 @@
 //! - [`fit`]: stacked length + moment-arm least squares and order selection (4.4).
 //! - [`function`], [`kinematics`], [`path`], [`wrap`]: path geometry (length, moment
 //!   arms, lengthening speed) with OpenSim's path points and wrapping over cylinders,
-//!   spheres and ellipsoids, generic over the scalar.
+//!   spheres, ellipsoids and tori, generic over the scalar.
 //! - [`samples`]: fitting poses from a motion file or drawn at random.
 //! - [`model_fit`]: fitting every muscle of a model and the accuracy report.
 //! - [`geometry_file`]: the fitted-geometry file and its per-model-content cache.
 
 mod atan;
 pub mod basis;
+mod cylinder_spiral;
 mod ellipsoid_closest;
 pub mod error;
 pub mod fit;
@@ -22,11 +23,13 @@ pub mod lsq;
 pub mod model_fit;
 pub mod path;
 pub mod poly;
+mod ring_closest;
 pub mod samples;
 mod vec3;
 pub mod wrap;
 mod wrap_ellipsoid;
 mod wrap_shapes;
+mod wrap_torus;
 
 pub use basis::{basis_size, MonomialBasis};
 pub use error::GeometryError;

@@ -12,7 +12,7 @@
 use crate::error::GeometryError;
 use crate::function::PreparedFunction;
 use crate::kinematics::{BodyPoses, Kinematics, Vec3};
-use crate::wrap::{wrapped_length, Node, Origin, PreparedPathWrap, PreparedWrapObject};
+use crate::wrap::{wrapped_length, Node, PreparedPathWrap, PreparedWrapObject};
 use crate::wrap_ellipsoid::WrapMethod;
 use stride_ad::{Dual, Scalar};
 use stride_model::{CoordId, Model, PathPoint, PathPointKind, PathWrap};
@@ -52,8 +52,8 @@ pub struct MusclePaths {
 
 impl MusclePaths {
     /// Prepares the paths of all muscles of `model`; errors on a point attached to a
-    /// missing body or driven by a missing coordinate, and on a wrap over a missing or
-    /// unsupported wrap object.
+    /// missing body or driven by a missing coordinate, and on a wrap over a missing wrap
+    /// object.
     pub fn new(model: &Model) -> Result<Self, GeometryError> {
         let items = model
             .muscles
@@ -92,7 +92,7 @@ impl MusclePaths {
             paths.push(pts);
             let ws = path_wraps
                 .iter()
-                .map(|w| prepare_wrap(model, &objects, &name, w))
+                .map(|w| prepare_wrap(model, &name, w))
                 .collect::<Result<Vec<_>, _>>()?;
             wraps.push(ws);
         }
@@ -166,19 +166,20 @@ impl MusclePaths {
     /// does.
     pub fn length<T: Scalar>(&self, m: usize, q: &[T], poses: &BodyPoses<T>) -> T {
         if !self.wraps[m].is_empty() {
-            let mut path = Vec::with_capacity(self.paths[m].len() + 2 * self.wraps[m].len());
+            let mut points = Vec::with_capacity(self.paths[m].len());
             let mut active = Vec::with_capacity(self.paths[m].len());
             for (i, p) in self.paths[m].iter().enumerate() {
                 let g = point_in_ground(p, q, poses);
                 active.push(g.is_some());
                 if let Some(g) = g {
-                    path.push(Node {
+                    points.push(Node {
                         at: g,
-                        origin: Origin::Point(i),
+                        body: p.body,
+                        index: i,
                     });
                 }
             }
-            return wrapped_length(&self.objects, &self.wraps[m], &active, path, poses);
+            return wrapped_length(&self.objects, &self.wraps[m], &active, &points, poses);
         }
         let mut total = T::zero();
         let mut prev: Option<Vec3<T>> = None;
@@ -198,7 +199,6 @@ impl MusclePaths {
 /// Checks and prepares one wrap of the path `owner` ("muscle NAME", "ligament NAME").
 fn prepare_wrap(
     model: &Model,
-    objects: &[PreparedWrapObject],
     owner: &str,
     w: &PathWrap,
 ) -> Result<PreparedPathWrap, GeometryError> {
@@ -208,14 +208,6 @@ fn prepare_wrap(
         .ok_or_else(|| GeometryError::Model {
             what: format!("{owner}: wrap object index {} out of range", w.object),
         })?;
-    if let Some(kind) = objects[w.object].unsupported() {
-        return Err(GeometryError::Model {
-            what: format!(
-                "{owner} wraps over {kind} `{}`: wrapping over {kind} is not implemented (WrapCylinder, WrapSphere and WrapEllipsoid are)",
-                o.name
-            ),
-        });
-    }
     let method = WrapMethod::parse(&w.method).ok_or_else(|| GeometryError::Model {
         what: format!(
             "{owner} wrap over `{}`: method `{}` is not one of hybrid, midpoint, axial",
@@ -362,6 +354,10 @@ impl PathGeometry {
     /// Moment arms `r = −∂l/∂q_c` [m] of all muscles about coordinate `c` at `q`, exact
     /// (forward-mode dual numbers along `q_c`), into `out`. Muscles whose length cannot
     /// depend on `q_c` ([`MusclePaths::depends_on`]) get an exact 0 without evaluation.
+    /// On wrapped paths the tangent points are held fixed on their wrap objects, as in
+    /// OpenSim's moment arms; where OpenSim's wrapped length is not the shortest path
+    /// (ellipsoids, cylinders, paths with several wraps) these differ from the derivative
+    /// of the length.
     pub fn moment_arms(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
         let depends = &self.depends[c];
         if !depends.iter().any(|d| *d) {
@@ -381,8 +377,9 @@ impl PathGeometry {
         }
     }
 
-    /// Moment arms as [`PathGeometry::moment_arms`], by central finite differences with
-    /// step [`PathGeometry::fd_step`] (an independent check of the exact ones).
+    /// `−∂l/∂q_c` by central finite differences with step [`PathGeometry::fd_step`]: an
+    /// independent check of [`PathGeometry::moment_arms`] on paths without wrapping (see
+    /// there for wrapped paths).
     pub fn moment_arms_fd(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
         let h = self.fd_step;
         self.q_work.copy_from_slice(q);

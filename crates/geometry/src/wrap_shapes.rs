@@ -2,17 +2,15 @@
 //! wrap object, with OpenSim's rules for when a segment wraps and on which side.
 //!
 //! Decisions (inside the surface, wrap or not, which tangent points, the long way round)
-//! follow OpenSim 4.x `WrapCylinder::wrapLine` and `WrapSphere::wrapLine` and are taken
-//! on primal values; the wrapped path itself is the shortest one for those decisions —
-//! a helix on the cylinder (the straight lines and the helix unroll into one straight
-//! line) and a great-circle arc on the sphere — so its length is generic over the scalar
-//! and its derivatives are exact.
-//!
-//! Exception: on a path with a single wrap, OpenSim keeps the cylinder's tangent heights
-//! from its apex-plane construction, which is not the shortest path; that case is
-//! reproduced on primal values with the tangent points fixed on the cylinder, which is
-//! how OpenSim's moment arms treat them.
+//! follow OpenSim 4.x `WrapCylinder::wrapLine` and `WrapSphere::wrapLine`, on primal
+//! values. The sphere's path is the great-circle arc between the tangent points. The
+//! cylinder's is the helix between tangent points whose heights come from OpenSim's
+//! apex-plane construction, which is not the shortest path; on a path with other wraps
+//! OpenSim then slides them towards tangency ([`crate::cylinder_spiral`]).
+//! [`crate::wrap`] holds the tangent points fixed on the surface for the moment arms, as
+//! OpenSim's do.
 
+use crate::cylinder_spiral::{adjust_heights, helix_angle};
 use crate::kinematics::Vec3;
 use stride_ad::Scalar;
 use stride_model::WrapQuadrant;
@@ -28,24 +26,11 @@ pub(crate) enum WrapAction<T> {
     Wrapped(SurfacePath<T>),
     /// The segment intersects the surface and must wrap.
     Mandatory(SurfacePath<T>),
-}
-
-impl WrapAction<f64> {
-    /// The same outcome on any scalar, as constants: tangent points fixed in the wrap
-    /// frame and a fixed surface length.
-    pub(crate) fn to_constant<T: Scalar>(self) -> WrapAction<T> {
-        let lift = |sp: SurfacePath<f64>| SurfacePath {
-            r1: sp.r1.map(T::cst),
-            r2: sp.r2.map(T::cst),
-            length: T::cst(sp.length),
-        };
-        match self {
-            Self::NoWrap => WrapAction::NoWrap,
-            Self::Inside => WrapAction::Inside,
-            Self::Wrapped(sp) => WrapAction::Wrapped(lift(sp)),
-            Self::Mandatory(sp) => WrapAction::Mandatory(lift(sp)),
-        }
-    }
+    /// Reported as wrapped but without a surface path (a torus whose cylinder does not
+    /// wrap): the segment stays straight. OpenSim weighs it against the other segments
+    /// with the tangent points of its previous evaluation, which stride does not keep;
+    /// here it is no candidate.
+    Degenerate,
 }
 
 /// A wrapped segment: tangent points (wrap frame [m]) and the length on the surface [m].
@@ -189,20 +174,21 @@ fn cylinder_choice(
     (pick1, pick2, dot2(radial, musc) < 0.0, far)
 }
 
-/// Wraps the segment `p1`–`p2` (cylinder frame [m]) over the cylinder of `radius` and
-/// `length` along z centred on the origin. `single`: the path has no other wrap; OpenSim
-/// then keeps the tangent heights of its apex-plane construction (not the shortest
-/// helix), reproduced by [`single_cylinder_path`].
-pub(crate) fn wrap_cylinder<T: Scalar>(
-    p1: &Vec3<T>,
-    p2: &Vec3<T>,
+/// Wraps the segment `a`–`b` (cylinder frame [m]) over the cylinder of `radius` and
+/// `length` along z centred on the origin, on primal values. The tangent heights come
+/// from OpenSim's apex-plane construction ([`cylinder_path`]); `single` tells that the
+/// path has no other wrap, else OpenSim adjusts them towards tangency
+/// ([`crate::cylinder_spiral`]).
+pub(crate) fn wrap_cylinder(
+    a: &[f64; 3],
+    b: &[f64; 3],
     radius: f64,
     length: f64,
     quadrant: Option<WrapQuadrant>,
     single: bool,
-) -> WrapAction<T> {
+) -> WrapAction<f64> {
+    let (a, b) = (*a, *b);
     let r2 = radius * radius;
-    let (a, b) = (values(p1), values(p2));
     if a[0] * a[0] + a[1] * a[1] < r2 || b[0] * b[0] + b[1] * b[1] < r2 {
         return WrapAction::Inside;
     }
@@ -223,50 +209,14 @@ pub(crate) fn wrap_cylinder<T: Scalar>(
         }
         Some(_) => false,
     };
-    let c1 = circle_tangents([p1[0], p1[1]], radius);
-    let c2 = circle_tangents([p2[0], p2[1]], radius);
-    let (pick1, pick2, long, far) = cylinder_choice(
-        [a, b],
-        [v2(c1[0]), v2(c1[1])],
-        [v2(c2[0]), v2(c2[1])],
-        quadrant,
-    );
+    let c1 = circle_tangents([a[0], a[1]], radius);
+    let c2 = circle_tangents([b[0], b[1]], radius);
+    let (pick1, pick2, long, far) = cylinder_choice([a, b], c1, c2, quadrant);
     let t1 = if pick1 { c1[0] } else { c1[1] };
     let t2 = if pick2 { c2[0] } else { c2[1] };
-    if single {
-        let tangents = [v2(t1), v2(t2)];
-        let Some(path) = single_cylinder_path([a, b], tangents, radius, length, long, far) else {
-            return WrapAction::NoWrap;
-        };
-        return if mandatory {
-            WrapAction::Mandatory(path)
-        } else {
-            WrapAction::Wrapped(path)
-        }
-        .to_constant();
-    }
-    let mut theta = arc_angle(t1, t2);
-    if long {
-        theta = theta.rsub(2.0 * std::f64::consts::PI);
-    }
-    // Unrolled, the tangent lines and the helix are one straight line: z is linear in the
-    // developed length.
-    let d1 = (p1[0] * p1[0] + p1[1] * p1[1] - r2).sqrt();
-    let d2 = (p2[0] * p2[0] + p2[1] * p2[1] - r2).sqrt();
-    let arc = theta * radius;
-    let total = d1 + arc + d2;
-    let dz = p2[2] - p1[2];
-    let z1 = p1[2] + dz * d1 / total;
-    let z2 = p1[2] + dz * (d1 + arc) / total;
-    let half = 0.5 * length;
-    let outside = |z: f64| !(-half..=half).contains(&z);
-    if outside(z1.value()) && outside(z2.value()) {
+    let turn = CylinderTurn { long, far };
+    let Some(path) = cylinder_path([a, b], [t1, t2], radius, length, turn, !single) else {
         return WrapAction::NoWrap;
-    }
-    let path = SurfacePath {
-        r1: [t1[0], t1[1], z1],
-        r2: [t2[0], t2[1], z2],
-        length: (arc * arc + (z2 - z1) * (z2 - z1)).sqrt(),
     };
     if mandatory {
         WrapAction::Mandatory(path)
@@ -275,18 +225,27 @@ pub(crate) fn wrap_cylinder<T: Scalar>(
     }
 }
 
-/// OpenSim's surface path over a cylinder for a path with one wrap, on primal values:
-/// the tangent points `t` (x, y) take their heights from the plane through both end
-/// points `p` and an apex on the cylinder's surface (on the far side with `far`), and the
-/// path is the helix between them, `long` the long way round. `None` when both tangent
-/// points lie beyond the cylinder's ends.
-fn single_cylinder_path(
+/// How a cylinder wrap turns: the long way round (`long`), and on which side the apex of
+/// OpenSim's tangent-height construction lies (`far`).
+#[derive(Clone, Copy, Debug)]
+struct CylinderTurn {
+    long: bool,
+    far: bool,
+}
+
+/// OpenSim's surface path over a cylinder, on primal values: the tangent points `t`
+/// (x, y) take their heights from the plane through both end points `p` and an apex on
+/// the cylinder's surface (on the far side with `turn.far`); with `adjust` (a path with
+/// other wraps) OpenSim then slides them towards tangency. The path is the helix between
+/// them, `turn.long` the long way round. `None` when both tangent points lie beyond the
+/// cylinder's ends before the adjustment.
+fn cylinder_path(
     p: [[f64; 3]; 2],
     t: [[f64; 2]; 2],
     radius: f64,
     length: f64,
-    long: bool,
-    far: bool,
+    turn: CylinderTurn,
+    adjust: bool,
 ) -> Option<SurfacePath<f64>> {
     use crate::vec3::{cross, dot, sub, unit};
     let [a, b] = p;
@@ -300,7 +259,11 @@ fn single_cylinder_path(
     let apex2: [f64; 3] = std::array::from_fn(|k| axis_pt[k] - radius * vert[k]);
     let d2 = |x: &[f64; 3], y: &[f64; 3]| dot(&sub(x, y), &sub(x, y));
     let nearer_first = d2(&mpt, &apex1) < d2(&mpt, &apex2);
-    let apex = if nearer_first != far { apex1 } else { apex2 };
+    let apex = if nearer_first != turn.far {
+        apex1
+    } else {
+        apex2
+    };
     let plane = unit(&cross(&unit(&sub(&a, &apex)), &unit(&sub(&b, &apex))));
     let offset = -dot(&a, &plane);
     // Slide each tangent point along the cylinder onto that plane, unless that moves it
@@ -322,10 +285,16 @@ fn single_cylinder_path(
     if z1.abs() > half && z2.abs() > half {
         return None;
     }
-    let mut theta = (t[0][0] * t[1][1] - t[0][1] * t[1][0]).atan2(dot2(t[0], t[1]));
-    if long {
-        theta = 2.0 * std::f64::consts::PI - theta;
-    }
+    let (z1, z2, theta) = if adjust {
+        let [z1, z2] = adjust_heights(p, t, [z1, z2], radius, turn.long);
+        (z1, z2, helix_angle(t, turn.long))
+    } else {
+        let mut theta = (t[0][0] * t[1][1] - t[0][1] * t[1][0]).atan2(dot2(t[0], t[1]));
+        if turn.long {
+            theta = 2.0 * std::f64::consts::PI - theta;
+        }
+        (z1, z2, theta)
+    };
     Some(SurfacePath {
         r1: [t[0][0], t[0][1], z1],
         r2: [t[1][0], t[1][1], z2],

@@ -204,16 +204,25 @@ fn dhondt2024_with_wrapping_matches_opensim() {
 
 /// The small model of `tools/opensim_reference/paths_wrap.py` (kept in this crate):
 /// cylinders and spheres with and without quadrants, on the ground and on a moving body,
-/// a point range and two wraps on one path.
-///
-/// Known deviation, printed but not asserted: `two_wraps` (cylinder then sphere; up to
-/// 3.4 mm longer than OpenSim: with two wraps OpenSim slides the cylinder's tangent points
-/// towards tangency iteratively, to within 0.1°, where stride takes the shortest helix).
+/// a point range and two wraps on one path (`two_wraps`: a cylinder, then a sphere).
 #[test]
 fn wrap_model_matches_opensim() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data");
-    let known = ["two_wraps"];
-    check_model_in(Path::new(dir), "wrap_model", "wrap_model.osim", &known);
+    check_model_in(Path::new(dir), "wrap_model", "wrap_model.osim", &[]);
+}
+
+/// The small model of `tools/opensim_reference/paths_wrap_torus.py` (kept in this crate):
+/// tori with a path through the hole, a path beside the ring, a quadrant, on the moving
+/// body and inactive; two cylinders on one path, and a torus and a cylinder on one path.
+#[test]
+fn wrap_torus_model_matches_opensim() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data");
+    check_model_in(
+        Path::new(dir),
+        "wrap_torus_model",
+        "wrap_torus_model.osim",
+        &[],
+    );
 }
 
 /// The small model of `tools/opensim_reference/paths_wrap_ellipsoid.py` (kept in this

@@ -2,7 +2,7 @@
 //! tested in `tests/osim_reference.rs`).
 
 use super::*;
-use crate::model::{Function, JointKind, MotionType, PathPointKind};
+use crate::model::{Function, JointKind, MotionType, PathPointKind, WrapShape};
 
 const V3: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
 <OpenSimDocument Version="30000">
@@ -316,6 +316,36 @@ fn unknown_wrap_class_names_file_line_and_object() {
     let line = line_of(&text, "<WrapCone");
     assert!(e.starts_with(&format!("bad.osim:{line}:")), "{e}");
     assert!(e.contains("`cyl`") && e.contains("WrapCone"), "{e}");
+}
+
+#[test]
+fn torus_is_read_and_its_radii_are_checked() {
+    let torus = |inner: &str, outer: &str| {
+        V3.replace(
+            "<WrapCylinder name=\"cyl\"><xyz_body_rotation>0 0 0.5</xyz_body_rotation>",
+            "<WrapTorus name=\"cyl\"><xyz_body_rotation>0 0 0.5</xyz_body_rotation>",
+        )
+        .replace(
+            "<radius>0.03</radius><length>0.1</length></WrapCylinder>",
+            &format!("<inner_radius>{inner}</inner_radius><outer_radius>{outer}</outer_radius></WrapTorus>"),
+        )
+    };
+    let model = parse_osim(&torus("0.01", "0.04"), "ok.osim").unwrap();
+    assert_eq!(
+        model.wrap_objects[0].shape,
+        WrapShape::Torus {
+            inner_radius: 0.01,
+            outer_radius: 0.04
+        }
+    );
+    let text = torus("0.04", "0.01");
+    let e = err_of(&text);
+    let line = line_of(&text, "<outer_radius>");
+    assert!(e.starts_with(&format!("bad.osim:{line}:")), "{e}");
+    assert!(
+        e.contains("outer_radius") && e.contains("inner_radius"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -67,10 +67,23 @@ fn wrap_object(ctx: &Ctx, w: El, body: usize) -> Result<WrapObject, OsimError> {
             }
             WrapShape::Ellipsoid { radii }
         }
-        "WrapTorus" => WrapShape::Torus {
-            inner_radius: positive("inner_radius")?,
-            outer_radius: positive("outer_radius")?,
-        },
+        "WrapTorus" => {
+            let inner_radius = positive("inner_radius")?;
+            let outer_radius = positive("outer_radius")?;
+            if outer_radius <= inner_radius {
+                return Err(ctx.err(
+                    ctx.req(w, "outer_radius")?,
+                    format!(
+                        "must exceed inner_radius {inner_radius} (the tube's radius), found \
+                         {outer_radius}"
+                    ),
+                ));
+            }
+            WrapShape::Torus {
+                inner_radius,
+                outer_radius,
+            }
+        }
         other => {
             return Err(ctx.err(
                 w,
