@@ -171,6 +171,7 @@ fn ligament(
         force_length,
         path,
         wraps,
+        path_polynomial: None,
     })
 }
 
@@ -279,6 +280,9 @@ fn muscle(
         slow_twitch_fraction: 0.5,
         specific_tension: 0.25e6,
         tendon_stiffness_scale: 1.0,
+        passive_fibre_shift: 1.0,
+        passive_fibre_scale: 1.0,
+        metabolic_smoothing: crate::model::default_metabolic_smoothing(),
     })
 }
 
