@@ -166,6 +166,10 @@ pub struct MetabolicSettings {
     pub mirror_left: bool,
     /// Entries by muscle name.
     pub muscles: BTreeMap<String, MuscleMetabolic>,
+    /// Steepness b of the smooth conditionals `½(1 + tanh(b x))` of the Bhargava (2004)
+    /// rate (PredSim's `b`; 10 by default, 100 for D'Hondt et al. 2024).
+    #[serde(default = "crate::model::default_metabolic_smoothing")]
+    pub smoothing: f64,
 }
 
 impl Default for MetabolicSettings {
@@ -176,6 +180,7 @@ impl Default for MetabolicSettings {
             default_specific_tension_mpa: 0.25,
             mirror_left: true,
             muscles: BTreeMap::new(),
+            smoothing: crate::model::default_metabolic_smoothing(),
         }
     }
 }
@@ -237,6 +242,15 @@ pub struct MuscleParameters {
     /// tendon curve shift recomputed (PredSim's `tendon_stiff_scale`); absent: unchanged.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tendon_stiffness_scale: Option<f64>,
+    /// Shift λ of the passive fibre force–length curve (PredSim's
+    /// `muscle_pass_stiff_shift`): `f_PE = (exp(4κ(l̃_M − λ)/0.6) − 1 − p1)/p2`; absent:
+    /// unchanged (1 by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passive_fibre_shift: Option<f64>,
+    /// Scale κ of that curve's exponent (PredSim's `muscle_pass_stiff_scale`); absent:
+    /// unchanged (1 by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passive_fibre_scale: Option<f64>,
     /// Line of the entry's `match` in the settings file, for errors (not a key).
     #[serde(skip)]
     pub line: Option<usize>,
@@ -487,6 +501,12 @@ impl ModelSettings {
 
     fn apply_metabolic(&self, model: &mut Model) -> Result<(), KeyError> {
         let m = &self.metabolic;
+        if !(m.smoothing.is_finite() && m.smoothing > 0.0) {
+            return Err((
+                "metabolic.smoothing".into(),
+                format!("{} must be finite and > 0", m.smoothing),
+            ));
+        }
         for name in m.muscles.keys() {
             if model.muscle_index(name).is_none() {
                 return Err((
@@ -521,6 +541,7 @@ impl ModelSettings {
             }
             muscle.slow_twitch_fraction = fst;
             muscle.specific_tension = sigma * 1.0e6;
+            muscle.metabolic_smoothing = m.smoothing;
         }
         Ok(())
     }
@@ -548,15 +569,25 @@ impl ModelSettings {
                     format!("`{m}` selects no muscle of the model"),
                 ));
             }
-            if let Some(s) = e.tendon_stiffness_scale {
-                if !(s.is_finite() && s > 0.0) {
-                    let message = format!("{s} must be finite and > 0");
-                    return Err(fail(".tendon_stiffness_scale", message));
+            for (key, value) in [
+                (".tendon_stiffness_scale", e.tendon_stiffness_scale),
+                (".passive_fibre_shift", e.passive_fibre_shift),
+                (".passive_fibre_scale", e.passive_fibre_scale),
+            ] {
+                if let Some(s) = value.filter(|s| !(s.is_finite() && *s > 0.0)) {
+                    return Err(fail(key, format!("{s} must be finite and > 0")));
                 }
             }
             for muscle in model.muscles.iter_mut().filter(|x| selects(&x.name)) {
-                if let Some(s) = e.tendon_stiffness_scale {
-                    muscle.tendon_stiffness_scale = s;
+                let keys = [
+                    (&mut muscle.tendon_stiffness_scale, e.tendon_stiffness_scale),
+                    (&mut muscle.passive_fibre_shift, e.passive_fibre_shift),
+                    (&mut muscle.passive_fibre_scale, e.passive_fibre_scale),
+                ];
+                for (field, value) in keys {
+                    if let Some(v) = value {
+                        *field = v;
+                    }
                 }
             }
         }
