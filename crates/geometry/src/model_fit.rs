@@ -77,7 +77,11 @@ impl FitReport {
     /// Human-readable accuracy table (one muscle per line).
     pub fn table(&self) -> String {
         let mut s = String::new();
-        let w = self.rows.iter().map(|r| r.muscle.len()).fold(14, usize::max);
+        let w = self
+            .rows
+            .iter()
+            .map(|r| r.muscle.len())
+            .fold(14, usize::max);
         let _ = writeln!(
             s,
             "{:<w$} {:<70} {:>5} {:>12} {:>14} {:>6}",
