@@ -34,8 +34,10 @@ fn shifted_passive_fibre_force_matches_the_formula_by_hand() {
     // κ = 1.5 at l̃ = 1.1, λ = 1: (e^{1.0} − 0.00483)/53.598 = 2.713452/53.598
     let f = passive_force(1.1, 1.0, 1.5);
     assert!((f - 50.6260).abs() < 1e-3, "{f}");
-    // at l̃ = λ the force is (1 − 1 + 0.99517 − 0.99517)/p2 = 0
-    assert!(passive_force(0.9, 0.9, 1.0).abs() < 1e-12);
+    // at l̃ = λ: (e^0 − 1 + 0.99517)/53.598 = 0.0185672 F_max, whatever λ
+    let f = passive_force(0.9, 0.9, 1.0);
+    assert!((f - 18.5672).abs() < 1e-3, "{f}");
+    assert!((f - passive_force(1.0, 1.0, 1.0)).abs() < 1e-9);
 }
 
 #[test]
