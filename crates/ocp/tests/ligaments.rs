@@ -58,7 +58,7 @@ fn ligament_moment_is_minus_force_times_the_length_gradient() {
     let h = 1e-6;
     let mut spanned = 0;
     let mut largest: f64 = 0.0;
-    for c in 0..m.coordinates.len() {
+    for (c, coordinate) in m.coordinates.iter().enumerate() {
         let mut expected = 0.0;
         for l in &m.ligaments {
             let p = l.path_polynomial.as_ref().unwrap();
@@ -75,7 +75,7 @@ fn ligament_moment_is_minus_force_times_the_length_gradient() {
         assert!(
             (got - expected).abs() <= 1e-6 * (1.0 + expected.abs()),
             "{}: {got} vs {expected}",
-            m.coordinates[c].name
+            coordinate.name
         );
         if got != 0.0 {
             spanned += 1;
@@ -132,13 +132,11 @@ fn ligaments_enter_the_torque_balances_of_their_coordinates_only() {
     let o = node.outputs();
     let driven = p.gait.muscle_driven();
     let mut changed = Vec::new();
-    for k in 0..o.n_path() {
-        if (y1[k] - y0[k]).abs() > 1e-9 {
+    for (k, (a, b)) in y1.iter().zip(&y0).take(o.n_path()).enumerate() {
+        if (a - b).abs() > 1e-9 {
             assert!(
                 k >= o.root && k < o.root + o.muscle_driven,
-                "output {k} changed: {} vs {}",
-                y1[k],
-                y0[k]
+                "output {k} changed: {a} vs {b}"
             );
             changed.push(p.gait.coordinates[driven[k - o.root]].name.clone());
         }
