@@ -61,6 +61,9 @@ pub fn reference_geometry(model: &Model, osim: &[u8]) -> GeometryFile {
         muscles: model.muscles.iter().map(|m| m.name.clone()).collect(),
         path_polynomials: model.path_polynomials.clone(),
         accuracy,
+        ligaments: Vec::new(),
+        ligament_polynomials: Vec::new(),
+        ligament_accuracy: Vec::new(),
     }
 }
 

@@ -5,8 +5,8 @@ use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 use stride_geometry::{
-    content_hash, fit_model, poses_from_motion, random_poses, FitModelOptions, FitOptions,
-    FitSettings, GeometryFile,
+    content_hash, fit_ligaments, fit_model, poses_from_motion, random_poses, FitModelOptions,
+    FitOptions, FitSettings, GeometryFile,
 };
 
 /// Arguments of `stride model fit`.
@@ -90,6 +90,16 @@ pub fn run(args: FitArgs) -> anyhow::Result<()> {
             failures.join(", ")
         );
     }
+    let ligaments = if model.ligaments.is_empty() {
+        None
+    } else {
+        let report = fit_ligaments(&model, &poses, &options)?;
+        print!("{}", report.table());
+        for w in report.warnings() {
+            println!("{w}");
+        }
+        Some(report)
+    };
     if let Some(out) = &args.out {
         let settings = FitSettings {
             n_samples: poses.len(),
@@ -97,7 +107,11 @@ pub fn run(args: FitArgs) -> anyhow::Result<()> {
             orders: [args.min_order, args.max_order],
             tolerance: args.tolerance_mm * 1e-3,
         };
-        GeometryFile::new(&model, Some(content_hash(&bytes)), settings, &report).write(out)?;
+        let mut file = GeometryFile::new(&model, Some(content_hash(&bytes)), settings, &report);
+        if let Some(l) = &ligaments {
+            file = file.with_ligaments(&model, l);
+        }
+        file.write(out)?;
         println!("wrote {}", out.display());
     }
     Ok(())

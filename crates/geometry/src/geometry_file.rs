@@ -1,10 +1,10 @@
 //! The fitted-geometry file written by `stride model fit` and read by `stride predict`
 //! (`--geometry`, study key `geometry`, or the per-user cache): polynomials keyed by muscle
-//! and coordinate names, the fitting settings, the accuracy of every muscle and the
-//! content hash of the model file it was fitted to.
+//! (and ligament) and coordinate names, the fitting settings, the accuracy of every muscle
+//! and ligament and the content hash of the model file it was fitted to.
 
 use crate::error::GeometryError;
-use crate::model_fit::{fit_model, FitModelOptions, FitReport};
+use crate::model_fit::{fit_ligaments, fit_model, FitModelOptions, FitReport};
 use crate::samples::random_poses;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -74,6 +74,31 @@ pub struct GeometryFile {
     pub path_polynomials: Vec<Option<PathPolynomial>>,
     /// Accuracy of every muscle.
     pub accuracy: Vec<MuscleAccuracy>,
+    /// Ligament names, same order as `ligament_polynomials` (empty for a model without
+    /// ligaments).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ligaments: Vec<String>,
+    /// Length polynomial of every ligament (`None` when it spans no coordinate).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ligament_polynomials: Vec<Option<PathPolynomial>>,
+    /// Accuracy of every ligament (the `muscle` field holds the ligament's name).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ligament_accuracy: Vec<MuscleAccuracy>,
+}
+
+/// The accuracy rows of a fit report.
+fn accuracy(report: &FitReport) -> Vec<MuscleAccuracy> {
+    report
+        .rows
+        .iter()
+        .map(|r| MuscleAccuracy {
+            muscle: r.muscle.clone(),
+            order: r.order,
+            rms_length_mm: r.rms_length_mm,
+            max_rms_moment_arm_mm: r.max_rms_moment_arm_mm,
+            meets_tolerance: r.meets_tolerance,
+        })
+        .collect()
 }
 
 impl GeometryFile {
@@ -92,18 +117,19 @@ impl GeometryFile {
             coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
             muscles: model.muscles.iter().map(|m| m.name.clone()).collect(),
             path_polynomials: report.polynomials.clone(),
-            accuracy: report
-                .rows
-                .iter()
-                .map(|r| MuscleAccuracy {
-                    muscle: r.muscle.clone(),
-                    order: r.order,
-                    rms_length_mm: r.rms_length_mm,
-                    max_rms_moment_arm_mm: r.max_rms_moment_arm_mm,
-                    meets_tolerance: r.meets_tolerance,
-                })
-                .collect(),
+            accuracy: accuracy(report),
+            ligaments: Vec::new(),
+            ligament_polynomials: Vec::new(),
+            ligament_accuracy: Vec::new(),
         }
+    }
+
+    /// The file with the ligament fit `report` of `model` added.
+    pub fn with_ligaments(mut self, model: &Model, report: &FitReport) -> Self {
+        self.ligaments = model.ligaments.iter().map(|l| l.name.clone()).collect();
+        self.ligament_polynomials = report.polynomials.clone();
+        self.ligament_accuracy = accuracy(report);
+        self
     }
 
     /// Reads a geometry file; a file that is not one (e.g. an `.osim`) is an error that
@@ -149,8 +175,9 @@ impl GeometryFile {
         })
     }
 
-    /// Sets `model.path_polynomials` from this file, matching muscles and coordinates by
-    /// name; every muscle of the model must be in the file.
+    /// Sets `model.path_polynomials` (and each ligament's `path_polynomial`) from this
+    /// file, matching muscles, ligaments and coordinates by name; every muscle of the
+    /// model must be in the file; a ligament missing from it keeps no polynomial.
     pub fn apply(&self, model: &mut Model) -> Result<(), GeometryError> {
         let mut polys = Vec::with_capacity(model.muscles.len());
         for m in &model.muscles {
@@ -164,34 +191,56 @@ impl GeometryFile {
                         model.name, m.name, self.model
                     ),
                 })?;
-            let Some(p) = self.path_polynomials.get(k).cloned().flatten() else {
-                polys.push(None);
-                continue;
-            };
-            let mut p = p;
-            for c in p.coordinates.iter_mut() {
-                let name = self
-                    .coordinates
-                    .get(*c)
-                    .ok_or_else(|| GeometryError::Model {
-                        what: format!(
-                            "geometry file: muscle {}: coordinate index {c} out of range",
-                            m.name
-                        ),
-                    })?;
-                *c = model
-                    .coordinate_index(name)
-                    .ok_or_else(|| GeometryError::Model {
-                        what: format!(
-                            "{}: coordinate {name} of muscle {}'s polynomial is not in the model",
-                            model.name, m.name
-                        ),
-                    })?;
-            }
-            polys.push(Some(p));
+            let p = self.path_polynomials.get(k).cloned().flatten();
+            polys.push(self.renumber(model, "muscle", &m.name, p)?);
+        }
+        let mut ligament_polys = Vec::with_capacity(model.ligaments.len());
+        for l in &model.ligaments {
+            let p = self
+                .ligaments
+                .iter()
+                .position(|n| *n == l.name)
+                .and_then(|k| self.ligament_polynomials.get(k).cloned().flatten());
+            ligament_polys.push(self.renumber(model, "ligament", &l.name, p)?);
         }
         model.path_polynomials = polys;
+        for (l, p) in model.ligaments.iter_mut().zip(ligament_polys) {
+            l.path_polynomial = p;
+        }
         Ok(())
+    }
+
+    /// Polynomial `p` of the element `kind name` with its coordinate indices turned from
+    /// this file's into `model`'s.
+    fn renumber(
+        &self,
+        model: &Model,
+        kind: &str,
+        name: &str,
+        p: Option<PathPolynomial>,
+    ) -> Result<Option<PathPolynomial>, GeometryError> {
+        let Some(mut p) = p else {
+            return Ok(None);
+        };
+        for c in p.coordinates.iter_mut() {
+            let coordinate = self
+                .coordinates
+                .get(*c)
+                .ok_or_else(|| GeometryError::Model {
+                    what: format!(
+                        "geometry file: {kind} {name}: coordinate index {c} out of range"
+                    ),
+                })?;
+            *c = model
+                .coordinate_index(coordinate)
+                .ok_or_else(|| GeometryError::Model {
+                    what: format!(
+                        "{}: coordinate {coordinate} of {kind} {name}'s polynomial is not in the model",
+                        model.name
+                    ),
+                })?;
+        }
+        Ok(Some(p))
     }
 }
 
@@ -241,7 +290,10 @@ pub fn cached_geometry(
     options.fit.max_order = settings.orders[1];
     options.fit.tolerance = settings.tolerance;
     let report = fit_model(model, &poses, &options)?;
-    let file = GeometryFile::new(model, Some(hash), settings.clone(), &report);
+    let mut file = GeometryFile::new(model, Some(hash), settings.clone(), &report);
+    if !model.ligaments.is_empty() {
+        file = file.with_ligaments(model, &fit_ligaments(model, &poses, &options)?);
+    }
     std::fs::create_dir_all(cache_dir).map_err(|e| GeometryError::File {
         path: cache_dir.display().to_string(),
         what: format!("cannot create the cache folder: {e}"),

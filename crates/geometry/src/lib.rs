@@ -35,7 +35,10 @@ pub use basis::{basis_size, MonomialBasis};
 pub use error::GeometryError;
 pub use fit::{fit_order, fit_polynomial, FitOptions, MuscleSamples, PolynomialFit};
 pub use geometry_file::{cached_geometry, content_hash, FitSettings, GeometryFile, GeometrySource};
-pub use model_fit::{fit_model, sample_geometry, FitModelOptions, FitReport, MuscleFitRow};
+pub use model_fit::{
+    fit_ligaments, fit_model, sample_geometry, FitModelOptions, FitReport, MuscleFitRow,
+    LIGAMENT_TOLERANCE,
+};
 pub use path::{lengthening_speed, MusclePaths, PathGeometry};
 pub use poly::{polynomial_length, polynomial_moment_arm};
 pub use samples::{poses_from_motion, random_poses, PoseSamples};

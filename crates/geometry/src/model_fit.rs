@@ -1,5 +1,5 @@
-//! Fitting the polynomial geometry of every muscle of a model from its path points
-//! (FORMULATION 4.3–4.4) and the accuracy report.
+//! Fitting the polynomial geometry of every muscle (and every ligament) of a model from
+//! its path points (FORMULATION 4.3–4.4) and the accuracy report.
 
 use crate::error::GeometryError;
 use crate::fit::{fit_polynomial, FitOptions, MuscleSamples, PolynomialFit};
@@ -10,6 +10,11 @@ use stride_model::{CoordId, Model, PathPolynomial};
 
 /// Threshold on `|Σ_samples r|` above which a muscle spans a coordinate [m] (4.3).
 pub const DEFAULT_SPAN_THRESHOLD: f64 = 1e-4;
+
+/// Accuracy target of the ligament length fits [m] (0.1 mm): a ligament's force grows
+/// exponentially with its strain, and 1 mm on a 15 cm plantar fascia is 0.7 % strain, so
+/// ligaments are fitted more tightly than the muscles' 3 mm.
+pub const LIGAMENT_TOLERANCE: f64 = 1e-4;
 
 /// Settings of [`fit_model`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,7 +55,10 @@ pub struct MuscleFitRow {
 /// Result of fitting a whole model.
 #[derive(Clone, Debug)]
 pub struct FitReport {
-    /// Accuracy of every muscle, in model muscle order.
+    /// What was fitted: `"muscle"` or `"ligament"` (the table's and warnings' wording).
+    pub kind: &'static str,
+    /// Accuracy of every muscle (or ligament), in model order; the `muscle` field of a
+    /// row holds the element's name.
     pub rows: Vec<MuscleFitRow>,
     /// Fitted polynomial of every muscle (None when it spans no coordinate).
     pub polynomials: Vec<Option<PathPolynomial>>,
@@ -69,15 +77,20 @@ impl FitReport {
     /// Human-readable accuracy table (one muscle per line).
     pub fn table(&self) -> String {
         let mut s = String::new();
+        let w = self
+            .rows
+            .iter()
+            .map(|r| r.muscle.len())
+            .fold(14, usize::max);
         let _ = writeln!(
             s,
-            "{:<14} {:<70} {:>5} {:>12} {:>14} {:>6}",
-            "muscle", "spanned coordinates", "order", "rms l [mm]", "max rms r [mm]", "ok"
+            "{:<w$} {:<70} {:>5} {:>12} {:>14} {:>6}",
+            self.kind, "spanned coordinates", "order", "rms l [mm]", "max rms r [mm]", "ok"
         );
         for r in &self.rows {
             let _ = writeln!(
                 s,
-                "{:<14} {:<70} {:>5} {:>12.3} {:>14.3} {:>6}",
+                "{:<w$} {:<70} {:>5} {:>12.3} {:>14.3} {:>6}",
                 r.muscle,
                 r.spanned.join(","),
                 r.order,
@@ -95,10 +108,11 @@ impl FitReport {
             .iter()
             .map(|r| {
                 if r.spanned.is_empty() {
-                    format!("warning: muscle {} spans no coordinate; no polynomial fitted", r.muscle)
+                    format!("warning: {} {} spans no coordinate; no polynomial fitted", self.kind, r.muscle)
                 } else {
                     format!(
-                        "warning: muscle {} misses the {:.1} mm target at order {}: RMS length error {:.2} mm, largest RMS moment-arm error {:.2} mm",
+                        "warning: {} {} misses the {:.1} mm target at order {}: RMS length error {:.2} mm, largest RMS moment-arm error {:.2} mm",
+                        self.kind,
                         r.muscle,
                         self.tolerance * 1e3,
                         r.order,
@@ -122,13 +136,19 @@ pub struct SampledGeometry {
     pub muscles: Vec<MuscleSamples>,
 }
 
-/// Evaluates the path geometry at every pose, detects the spanned coordinates
+/// Evaluates the muscle path geometry at every pose, detects the spanned coordinates
 /// (`|Σ r| > span_threshold`, FORMULATION 4.3) and gathers per-muscle samples.
 pub fn sample_geometry(
     model: &Model,
     poses: &PoseSamples,
     span_threshold: f64,
 ) -> Result<SampledGeometry, GeometryError> {
+    check_poses(model, poses)?;
+    sample_paths(model, &mut PathGeometry::new(model)?, poses, span_threshold)
+}
+
+/// An error unless `poses` have one value per coordinate of `model`.
+fn check_poses(model: &Model, poses: &PoseSamples) -> Result<(), GeometryError> {
     if poses.n_coords != model.coordinates.len() {
         return Err(GeometryError::SampleShape {
             what: format!(
@@ -139,8 +159,17 @@ pub fn sample_geometry(
             ),
         });
     }
-    let mut geo = PathGeometry::new(model)?;
-    let nm = model.muscles.len();
+    Ok(())
+}
+
+/// [`sample_geometry`] for the paths of `geo` (muscles or ligaments of `model`).
+fn sample_paths(
+    model: &Model,
+    geo: &mut PathGeometry,
+    poses: &PoseSamples,
+    span_threshold: f64,
+) -> Result<SampledGeometry, GeometryError> {
+    let nm = geo.paths.len();
     let candidates: Vec<CoordId> = (0..model.coordinates.len())
         .filter(|&i| !model.coordinates[i].locked)
         .collect();
@@ -203,18 +232,49 @@ pub fn fit_model(
     options: &FitModelOptions,
 ) -> Result<FitReport, GeometryError> {
     let sampled = sample_geometry(model, poses, options.span_threshold)?;
-    let mut rows = Vec::with_capacity(model.muscles.len());
-    let mut polynomials = Vec::with_capacity(model.muscles.len());
+    let names: Vec<&str> = model.muscles.iter().map(|m| m.name.as_str()).collect();
+    fit_sampled(model, "muscle", &names, &sampled, &options.fit)
+}
+
+/// Fits the length polynomial of every ligament of `model` over the coordinates it spans
+/// to its path-point geometry at `poses`, to [`LIGAMENT_TOLERANCE`] (orders and spanning
+/// threshold of `options`), and reports the accuracy.
+pub fn fit_ligaments(
+    model: &Model,
+    poses: &PoseSamples,
+    options: &FitModelOptions,
+) -> Result<FitReport, GeometryError> {
+    check_poses(model, poses)?;
+    let mut geo = PathGeometry::ligaments(model)?;
+    let sampled = sample_paths(model, &mut geo, poses, options.span_threshold)?;
+    let names: Vec<&str> = model.ligaments.iter().map(|l| l.name.as_str()).collect();
+    let fit = FitOptions {
+        tolerance: LIGAMENT_TOLERANCE,
+        ..options.fit
+    };
+    fit_sampled(model, "ligament", &names, &sampled, &fit)
+}
+
+/// Fits one polynomial per sampled path (`names`: the elements' names, `kind` their kind).
+fn fit_sampled(
+    model: &Model,
+    kind: &'static str,
+    names: &[&str],
+    sampled: &SampledGeometry,
+    options: &FitOptions,
+) -> Result<FitReport, GeometryError> {
+    let mut rows = Vec::with_capacity(names.len());
+    let mut polynomials = Vec::with_capacity(names.len());
     for (m, ms) in sampled.muscles.iter().enumerate() {
-        let names: Vec<String> = ms
+        let spanned: Vec<String> = ms
             .coords
             .iter()
             .map(|&c| model.coordinates[c].name.clone())
             .collect();
         if ms.coords.is_empty() {
             rows.push(MuscleFitRow {
-                muscle: model.muscles[m].name.clone(),
-                spanned: names,
+                muscle: names[m].to_string(),
+                spanned,
                 order: 0,
                 rms_length_mm: f64::NAN,
                 max_rms_moment_arm_mm: f64::NAN,
@@ -223,13 +283,12 @@ pub fn fit_model(
             polynomials.push(None);
             continue;
         }
-        let fit: PolynomialFit =
-            fit_polynomial(ms, &options.fit).map_err(|e| GeometryError::Model {
-                what: format!("muscle {}: {e}", model.muscles[m].name),
-            })?;
+        let fit: PolynomialFit = fit_polynomial(ms, options).map_err(|e| GeometryError::Model {
+            what: format!("{kind} {}: {e}", names[m]),
+        })?;
         rows.push(MuscleFitRow {
-            muscle: model.muscles[m].name.clone(),
-            spanned: names,
+            muscle: names[m].to_string(),
+            spanned,
             order: fit.polynomial.order,
             rms_length_mm: fit.rms_length * 1e3,
             max_rms_moment_arm_mm: fit.max_rms_moment_arm() * 1e3,
@@ -238,9 +297,10 @@ pub fn fit_model(
         polynomials.push(Some(fit.polynomial));
     }
     Ok(FitReport {
+        kind,
         rows,
         polynomials,
-        tolerance: options.fit.tolerance,
-        n_samples: poses.len(),
+        tolerance: options.tolerance,
+        n_samples: sampled.muscles.first().map_or(0, |m| m.n_samples()),
     })
 }

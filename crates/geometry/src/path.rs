@@ -316,11 +316,21 @@ pub struct PathGeometry {
 }
 
 impl PathGeometry {
-    /// Prepares the geometry of `model` with the default finite-difference step.
+    /// Prepares the muscle geometry of `model` with the default finite-difference step.
     pub fn new(model: &Model) -> Result<Self, GeometryError> {
+        Self::with_paths(model, MusclePaths::new(model)?)
+    }
+
+    /// Prepares the ligament geometry of `model` (path index = ligament index), as
+    /// [`PathGeometry::new`] does for the muscles.
+    pub fn ligaments(model: &Model) -> Result<Self, GeometryError> {
+        Self::with_paths(model, MusclePaths::ligaments(model)?)
+    }
+
+    /// The geometry of the prepared `paths` of `model`.
+    fn with_paths(model: &Model, paths: MusclePaths) -> Result<Self, GeometryError> {
         let kinematics = Kinematics::new(model)?;
-        let paths = MusclePaths::new(model)?;
-        let n = model.muscles.len();
+        let n = paths.len();
         let depends = (0..kinematics.n_coords())
             .map(|c| {
                 let (moved, n_joints) = kinematics.moved_by(c);

@@ -247,6 +247,33 @@ pub struct Muscle {
     pub slow_twitch_fraction: f64,
     /// Specific tension σ [Pa] used for the muscle mass (0.25 MPa when unknown).
     pub specific_tension: f64,
+    /// Factor on the tendon stiffness: the muscle's k_T is the problem's k_T (35) times
+    /// this, with the tendon curve shift recomputed (PredSim's `tendon_stiff_scale`; 1
+    /// when unset).
+    #[serde(default = "unit_scale")]
+    pub tendon_stiffness_scale: f64,
+    /// Shift λ of the passive fibre force–length curve, `f_PE` evaluated at
+    /// `(l̃_M − λ)` instead of `(l̃_M − 1)` (PredSim's `muscle_pass_stiff_shift`; 1 when
+    /// unset).
+    #[serde(default = "unit_scale")]
+    pub passive_fibre_shift: f64,
+    /// Scale κ of the passive fibre curve's exponent, `exp(4κ(l̃_M − λ)/0.6)` (PredSim's
+    /// `muscle_pass_stiff_scale`; 1 when unset).
+    #[serde(default = "unit_scale")]
+    pub passive_fibre_scale: f64,
+    /// Steepness b of the smooth conditionals `½(1 + tanh(b x))` in the Bhargava (2004)
+    /// metabolic rate (10 in the paper; PredSim's `b`).
+    #[serde(default = "default_metabolic_smoothing")]
+    pub metabolic_smoothing: f64,
+}
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+/// The paper's steepness of the metabolic smooth conditionals (10).
+pub fn default_metabolic_smoothing() -> f64 {
+    10.0
 }
 
 /// Polynomial approximation of a muscle–tendon length:
@@ -492,6 +519,10 @@ pub struct Ligament {
     /// Wrap objects the path wraps over, in the order OpenSim applies them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub wraps: Vec<PathWrap>,
+    /// Polynomial fit of the path length [m] over the coordinates the ligament spans
+    /// (from the geometry file); `None` when the model has not been fitted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path_polynomial: Option<PathPolynomial>,
 }
 
 /// A dependent coordinate that follows an independent one:

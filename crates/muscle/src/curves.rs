@@ -70,7 +70,15 @@ pub fn force_velocity<T: Scalar>(vm_norm: T) -> T {
 /// Passive fibre force–length `f_PE(l̃_M)` (normalised by `F_max`).
 #[inline]
 pub fn passive_force_length<T: Scalar>(lm_norm: T) -> T {
-    (((lm_norm - 1.0) * (FPE_KPE / FPE_E0)).exp() - 1.0 - FPE_P1) / FPE_P2
+    passive_force_length_shifted(lm_norm, 1.0, 1.0)
+}
+
+/// Passive fibre force–length with PredSim's shift λ and exponent scale κ (PREDSIM.md
+/// §3.4): `f_PE = (exp(κ k_PE (l̃_M − λ)/e0) − 1 − p1)/p2` with the unchanged p1, p2;
+/// λ = κ = 1 is [`passive_force_length`].
+#[inline]
+pub fn passive_force_length_shifted<T: Scalar>(lm_norm: T, shift: f64, scale: f64) -> T {
+    (((lm_norm - shift) * (FPE_KPE / FPE_E0 * scale)).exp() - 1.0 - FPE_P1) / FPE_P2
 }
 
 /// Tendon curve shift `s_T(k_T)` making the force at `l̃_T = 1` equal to the `k_T = 35` curve.

@@ -7,7 +7,7 @@ use stride_ad::Scalar;
 use stride_model::Muscle;
 
 use crate::curves::{
-    active_force_length, force_velocity, passive_force_length, tendon_length, tendon_shift,
+    active_force_length, force_velocity, passive_force_length_shifted, tendon_length, tendon_shift,
     tendon_stiffness, TENDON_STIFFNESS_DEFAULT,
 };
 use crate::MuscleError;
@@ -30,6 +30,11 @@ pub struct HillParams {
     shift: f64,
     sigma: f64,
     f_st: f64,
+    /// Passive fibre curve shift λ and exponent scale κ.
+    passive_shift: f64,
+    passive_scale: f64,
+    /// Steepness of the Bhargava metabolic smooth conditionals.
+    metabolic_smoothing: f64,
     // derived
     height: f64,
     v_max: f64,
@@ -105,6 +110,9 @@ impl HillParams {
             shift: 0.0,
             sigma: specific_tension,
             f_st: slow_twitch_fraction,
+            passive_shift: 1.0,
+            passive_scale: 1.0,
+            metabolic_smoothing: crate::metabolic::SMOOTHING,
             height: 0.0,
             v_max: 0.0,
             mass: 0.0,
@@ -113,9 +121,11 @@ impl HillParams {
         Ok(p)
     }
 
-    /// Parameters of a model muscle (its `max_contraction_velocity` is in l_opt s⁻¹).
+    /// Parameters of a model muscle (its `max_contraction_velocity` is in l_opt s⁻¹), with
+    /// tendon stiffness 35 × its `tendon_stiffness_scale`, its passive fibre curve shift
+    /// and scale and its metabolic smoothing.
     pub fn from_muscle(m: &Muscle) -> Result<Self, MuscleError> {
-        Self::new(
+        let mut p = Self::new(
             &m.name,
             m.max_isometric_force,
             m.optimal_fiber_length,
@@ -124,7 +134,41 @@ impl HillParams {
             m.max_contraction_velocity,
             m.specific_tension,
             m.slow_twitch_fraction,
-        )
+        )?
+        .with_tendon_stiffness(TENDON_STIFFNESS_DEFAULT * m.tendon_stiffness_scale)?
+        .with_passive_fibre(m.passive_fibre_shift, m.passive_fibre_scale)?;
+        if !(m.metabolic_smoothing.is_finite() && m.metabolic_smoothing > 0.0) {
+            return Err(MuscleError::InvalidParameter {
+                muscle: m.name.clone(),
+                parameter: "metabolic_smoothing",
+                value: m.metabolic_smoothing,
+                reason: "must be finite and > 0",
+            });
+        }
+        p.metabolic_smoothing = m.metabolic_smoothing;
+        Ok(p)
+    }
+
+    /// Same muscle with the passive fibre force–length curve shifted to `λ = shift` and its
+    /// exponent scaled by `κ = scale`: `f_PE = (exp(4κ(l̃_M − λ)/0.6) − 1 − p1)/p2`
+    /// (PREDSIM.md §3.4; 1 and 1 give FORMULATION 3.5's curve).
+    pub fn with_passive_fibre(mut self, shift: f64, scale: f64) -> Result<Self, MuscleError> {
+        for (parameter, value) in [
+            ("passive_fibre_shift", shift),
+            ("passive_fibre_scale", scale),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(MuscleError::InvalidParameter {
+                    muscle: self.name,
+                    parameter,
+                    value,
+                    reason: "must be finite and > 0",
+                });
+            }
+        }
+        self.passive_shift = shift;
+        self.passive_scale = scale;
+        Ok(self)
     }
 
     fn update(&mut self) {
@@ -223,6 +267,10 @@ impl HillParams {
     pub fn slow_twitch_fraction(&self) -> f64 {
         self.f_st
     }
+    /// Steepness b of the smooth conditionals of the Bhargava metabolic rate.
+    pub fn metabolic_smoothing(&self) -> f64 {
+        self.metabolic_smoothing
+    }
     /// Muscle mass `F_max l_opt ρ / σ` [kg].
     pub fn mass(&self) -> f64 {
         self.mass
@@ -287,7 +335,7 @@ pub fn hill_equilibrium<T: Scalar>(
     let vm_norm = vm / p.v_max;
     let fl = active_force_length(lm_norm);
     let fv = force_velocity(vm_norm);
-    let fpe = passive_force_length(lm_norm);
+    let fpe = passive_force_length_shifted(lm_norm, p.passive_shift, p.passive_scale);
     let fce_norm = activation * fl * fv + vm_norm * FIBER_DAMPING;
     let residual = (fce_norm + fpe) * cos_a - tendon_force_norm;
     HillOutput {

@@ -97,12 +97,12 @@ impl MetabolicModel {
     }
 }
 
-/// Smoothly raises `x` to at least `floor`: `x + (floor − x) σ_10(floor − x)`; returns the
+/// Smoothly raises `x` to at least `floor`: `x + (floor − x) σ_b(floor − x)`; returns the
 /// increment.
 #[inline]
-fn floor_increment<T: Scalar>(x: T, floor: f64) -> T {
+fn floor_increment<T: Scalar>(x: T, floor: f64, b: f64) -> T {
     let gap = x.rsub(floor);
-    gap * smooth_step(gap, SMOOTHING)
+    gap * smooth_step(gap, b)
 }
 
 /// Bhargava et al. (2004), smooth version (FORMULATION 7.1).
@@ -117,15 +117,16 @@ fn bhargava2004<T: Scalar>(p: &HillParams, a: T, h: &HillOutput<T>) -> Metabolic
     let vm = h.fiber_velocity;
     let f_iso = a * h.force_length * p.max_isometric_force();
     let f_fib = h.active_fiber_force + h.passive_fiber_force;
-    let lengthening = smooth_step(vm, SMOOTHING);
+    let b = p.metabolic_smoothing();
+    let lengthening = smooth_step(vm, b);
     let shortening = lengthening.rsub(1.0);
     let alpha = (f_iso * 0.16 + f_fib * 0.18) * shortening + f_fib * 0.157 * lengthening;
     let mut shortening_heat = -alpha * vm;
     let work_rate = -h.active_fiber_force * vm * shortening;
     let e0 = activation_heat + maintenance_heat + shortening_heat + work_rate;
-    shortening_heat -= e0 * smooth_step(-e0, SMOOTHING);
+    shortening_heat -= e0 * smooth_step(-e0, b);
     let heat_per_kg = (activation_heat + maintenance_heat + shortening_heat) / mass;
-    let heat_floor = floor_increment(heat_per_kg, MIN_HEAT_RATE_PER_KG) * mass;
+    let heat_floor = floor_increment(heat_per_kg, MIN_HEAT_RATE_PER_KG, b) * mass;
     let total = activation_heat + maintenance_heat + shortening_heat + heat_floor + work_rate;
     MetabolicRate {
         activation_heat,
@@ -213,7 +214,7 @@ fn umberger<T: Scalar>(
         e_sl -= e0 * smooth_step(-e0, SMOOTHING);
     }
     let heat = e_am + e_sl;
-    let floor = floor_increment(heat, MIN_HEAT_RATE_PER_KG);
+    let floor = floor_increment(heat, MIN_HEAT_RATE_PER_KG, SMOOTHING);
 
     let activation_heat = e_am * mass;
     let shortening_heat = e_sl * mass;

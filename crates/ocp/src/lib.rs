@@ -24,6 +24,7 @@ pub mod gait;
 pub mod guess;
 mod jacobian_fill;
 pub mod layout;
+pub mod ligaments;
 pub mod measures;
 pub mod node;
 pub mod outputs;

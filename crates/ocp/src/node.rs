@@ -1,6 +1,7 @@
 //! The model function of one collocation point, generic over the scalar (FORMULATION A.1):
-//! unscale, muscle geometry, Hill model, metabolic rates, passive torques, inverse dynamics
-//! with contact, then the path constraints (8.4) and the cost integrand (8.6).
+//! unscale, muscle geometry, Hill model, metabolic rates, passive torques, ligament
+//! moments, inverse dynamics with contact, then the path constraints (8.4) and the cost
+//! integrand (8.6).
 //!
 //! One source of truth: the same generic code is recorded on a tape for the optimiser and
 //! evaluated on `f64` for post-processing.
@@ -55,6 +56,8 @@ pub struct NodeModel {
     hill: Vec<HillParams>,
     /// Polynomial geometry over model coordinates, indexed by model muscle.
     paths: MusclePaths,
+    /// The model's ligaments: length polynomials and force laws.
+    ligaments: crate::ligaments::Ligaments,
     /// Metabolic model of the cost.
     metabolic: MetabolicModel,
     /// Metabolic exponent p.
@@ -129,6 +132,8 @@ pub struct NodeWorkspace<T: Scalar> {
     tendon: Vec<T>,
     /// Passive torque per problem coordinate [N m or N] (0 for the root).
     passive: Vec<T>,
+    /// Ligament lengths, moment arms and forces.
+    ligaments: crate::ligaments::LigamentWorkspace<T>,
 }
 
 /// Metabolic model of the cost from the settings name.
@@ -155,11 +160,15 @@ impl NodeModel {
         };
         let paths =
             MusclePaths::from_model(&model).map_err(|e| ProblemError::Model(e.to_string()))?;
+        let coord_model: Vec<usize> = g.coordinates.iter().map(|c| c.model_index).collect();
+        let ligaments = crate::ligaments::Ligaments::new(&model, &coord_model)?;
         let muscle_model = g.muscles.clone();
         let mut hill = Vec::with_capacity(g.nm());
         for &mi in &muscle_model {
-            let h = HillParams::from_muscle(&model.muscles[mi])
-                .and_then(|h| h.with_tendon_stiffness(p.settings.tendon_stiffness))
+            let m = &model.muscles[mi];
+            let k_t = p.settings.tendon_stiffness * m.tendon_stiffness_scale;
+            let h = HillParams::from_muscle(m)
+                .and_then(|h| h.with_tendon_stiffness(k_t))
                 .map_err(|e| ProblemError::Model(e.to_string()))?;
             hill.push(h);
         }
@@ -257,7 +266,8 @@ impl NodeModel {
             actuator_gain,
             limit_only_cost: p.passive_cost_limit_only,
             inputs,
-            coord_model: g.coordinates.iter().map(|c| c.model_index).collect(),
+            coord_model,
+            ligaments,
             locked: g.locked.clone(),
             root: g.root(),
             muscle_driven,
@@ -365,6 +375,7 @@ impl NodeModel {
             arms: vec![T::zero(); self.paths.n_moment_arms()],
             tendon: vec![T::zero(); self.hill.len()],
             passive: vec![T::zero(); self.coord_model.len()],
+            ligaments: self.ligaments.workspace(),
         })
     }
 
@@ -396,6 +407,7 @@ impl NodeModel {
                 &mut ws.arms,
             )
             .expect("path workspace sized at construction");
+        self.ligaments.evaluate(&ws.q, &mut ws.ligaments);
         // Hill model, metabolic rates, activation constraints.
         let mut sum_e = T::zero();
         let mut sum_a2 = T::zero();
@@ -446,9 +458,13 @@ impl NodeModel {
         let tau = &ws.skeleton.tau;
         let mut out = 0;
         for (r, &i) in self.root.iter().enumerate() {
-            y[out] = match &self.tracking {
+            let residual = match &self.tracking {
                 Some(t) => tau[self.coord_model[i]] - x[self.data_offset() + t.root_offset() + r],
                 None => tau[self.coord_model[i]],
+            };
+            y[out] = match self.ligaments.moment(i, &ws.ligaments) {
+                Some(m) => residual - m,
+                None => residual,
             };
             out += 1;
         }
@@ -470,6 +486,9 @@ impl NodeModel {
             };
             let tp = self.add_springs(i, tp, ws.q[c], ws.v[c]);
             ws.passive[i] = tp;
+            if let Some(m) = self.ligaments.moment(i, &ws.ligaments) {
+                muscle += m;
+            }
             if self.limit_only_cost {
                 if let Some(pi) = passive.filter(|&pi| self.model.passive_torques[pi].has_limit()) {
                     let tl = stride_muscle::passive::limit_torque(
@@ -508,6 +527,10 @@ impl NodeModel {
                 x[io.arm() + k]
             } else {
                 x[io.arm() + k] * gain
+            };
+            let tp = match self.ligaments.moment(i, &ws.ligaments) {
+                Some(m) => tp + m,
+                None => tp,
             };
             y[out] = tau[c] / self.s_arm - (torque + tp / self.s_arm);
             out += 1;

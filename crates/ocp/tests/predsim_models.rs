@@ -1,8 +1,8 @@
 //! PredSim's three models (`Falisse_et_al_2022`, `gait1018`, `DHondt_et_al_2024_4seg`)
 //! as gait problems: bounds from the data where they match and from the model where not,
 //! PredSim's limit torques (analytic values), the toes driven by their passive torque,
-//! the 2D model's gait view, and derivatives of small problems against finite
-//! differences, on the models as shipped (settings file and fitted geometry).
+//! the 2D model's gait view, and derivatives of small problems (the four-segment foot
+//! model with its ligaments too) against finite differences, on the models as shipped (settings file and fitted geometry).
 
 use stride_geometry::GeometryFile;
 use stride_model::model_settings::ModelSettings;
@@ -227,6 +227,14 @@ fn check_first_derivatives(m: &Model, s: &ProblemSettings) {
 #[test]
 fn toes_model_derivatives_match_finite_differences() {
     check_first_derivatives(&shipped("falisse2022"), &toes_settings(3));
+}
+
+#[test]
+fn four_segment_foot_model_derivatives_match_finite_differences() {
+    // ligament moments, shifted passive fibres and metabolic b = 100 included
+    let mut s = toes_settings(3);
+    s.passive.toes = ToeDrive::Muscles;
+    check_first_derivatives(&shipped("dhondt2024"), &s);
 }
 
 #[test]

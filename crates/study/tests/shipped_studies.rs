@@ -1,6 +1,7 @@
 //! Every shipped study file parses, validates, and expands to the number of simulations of
 //! its family in ESM Table S3 (FORMULATION 13.1), or the count its header comment gives for
-//! the studies beyond the paper (contact models, the toes model).
+//! the studies beyond the paper (contact models, the toes model, the four-segment foot
+//! model).
 
 use std::path::PathBuf;
 use stride_study::spec;
@@ -29,6 +30,7 @@ fn shipped_study_files_expand_to_table_s3_counts() {
         ("contact_models.toml", 2 + 2),
         ("falisse2022_nominal.toml", 2),
         ("falisse2022_speeds.toml", 41),
+        ("dhondt2024_nominal.toml", 1),
     ];
     let mut found: Vec<String> = std::fs::read_dir(studies_dir())
         .unwrap()

@@ -3,8 +3,8 @@
 //! file of the built-in model is written.
 
 use super::{
-    ActuatorSetting, ContactSettings, ModelSettings, MuscleMetabolic, PassiveTorqueEntry,
-    SphereSetting,
+    ActuatorSetting, ContactSettings, ModelSettings, MuscleMetabolic, MuscleParameters,
+    PassiveTorqueEntry, SphereSetting,
 };
 use crate::model::Model;
 
@@ -73,6 +73,16 @@ impl ModelSettings {
             })
             .collect();
         s.metabolic.muscles = metabolic_entries(model, s.metabolic.mirror_left);
+        s.muscle_parameters = muscle_parameters(model).ok_or_else(|| {
+            err("a muscle name that selects muscles of different tendon or passive fibre parameters")
+        })?;
+        if let Some(first) = model.muscles.first() {
+            let b = first.metabolic_smoothing;
+            if model.muscles.iter().any(|m| m.metabolic_smoothing != b) {
+                return Err(err("muscles with different metabolic smoothing"));
+            }
+            s.metabolic.smoothing = b;
+        }
         Ok(s)
     }
 }
@@ -96,6 +106,52 @@ fn passive_table(model: &Model) -> Vec<PassiveTorqueEntry> {
         }
     }
     table
+}
+
+/// The `[[muscle_parameters]]` keys of a muscle: each value other than 1.
+fn parameter_keys(m: &crate::model::Muscle) -> [Option<f64>; 3] {
+    [
+        m.tendon_stiffness_scale,
+        m.passive_fibre_shift,
+        m.passive_fibre_scale,
+    ]
+    .map(|v| (v != 1.0).then_some(v))
+}
+
+/// One entry per combination of tendon stiffness scale and passive fibre shift and scale
+/// other than all 1, matching its muscles by full name; `None` when a name also selects a
+/// muscle of another combination.
+fn muscle_parameters(model: &Model) -> Option<Vec<MuscleParameters>> {
+    let mut out: Vec<MuscleParameters> = Vec::new();
+    let keys = |e: &MuscleParameters| {
+        [
+            e.tendon_stiffness_scale,
+            e.passive_fibre_shift,
+            e.passive_fibre_scale,
+        ]
+    };
+    for m in &model.muscles {
+        let k = parameter_keys(m);
+        if k == [None; 3] {
+            continue;
+        }
+        match out.iter_mut().find(|e| keys(e) == k) {
+            Some(e) => e.matches.push(m.name.clone()),
+            None => out.push(MuscleParameters {
+                matches: vec![m.name.clone()],
+                tendon_stiffness_scale: k[0],
+                passive_fibre_shift: k[1],
+                passive_fibre_scale: k[2],
+                line: None,
+            }),
+        }
+    }
+    let unambiguous = model.muscles.iter().all(|m| {
+        out.iter()
+            .filter(|e| e.matches.iter().any(|n| m.name.contains(n.as_str())))
+            .all(|e| keys(e) == parameter_keys(m))
+    });
+    unambiguous.then_some(out)
 }
 
 /// One entry per muscle, except left muscles equal to their right muscle when mirrored.

@@ -171,6 +171,7 @@ fn ligament(
         force_length,
         path,
         wraps,
+        path_polynomial: None,
     })
 }
 
@@ -278,6 +279,10 @@ fn muscle(
         wraps,
         slow_twitch_fraction: 0.5,
         specific_tension: 0.25e6,
+        tendon_stiffness_scale: 1.0,
+        passive_fibre_shift: 1.0,
+        passive_fibre_scale: 1.0,
+        metabolic_smoothing: crate::model::default_metabolic_smoothing(),
     })
 }
 
