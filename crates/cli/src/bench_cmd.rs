@@ -1,5 +1,6 @@
 //! `stride bench`: benchmark tables (markdown) of the solvers on the pendulum-chain
-//! collocation problem, of the gait NLP's derivatives, and of the nominal prediction.
+//! collocation problem, of the gait NLP's derivatives, of the nominal prediction and of
+//! the tracking of gait_1 (`bench_track`).
 
 use crate::predict_cmd;
 use anyhow::{bail, Context};
@@ -31,10 +32,17 @@ pub enum BenchCommand {
     /// Muscle path evaluation per pose (with wrapping) and the polynomial fit, per model,
     /// on one thread.
     Geometry(crate::bench_geometry::GeometryArgs),
+    /// The paper's tracking of trial gait_1 with the contact calibration, per Hessian, on
+    /// one thread: time, iterations and peak memory (one child process per case).
+    Track(crate::bench_track::TrackBenchArgs),
     /// Solve one prediction case and print its measurements as one JSON line (used by
     /// `stride bench predict`).
     #[command(hide = true)]
     PredictOne(PredictOneArgs),
+    /// Solve one tracking case and print its measurements as one JSON line (used by
+    /// `stride bench track`).
+    #[command(hide = true)]
+    TrackOne(crate::bench_track::TrackOneArgs),
 }
 
 /// Arguments of `stride bench solver`.
@@ -194,7 +202,9 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Kkt(a) => kkt(a),
         BenchCommand::Predict(a) => predict_grid(a),
         BenchCommand::Geometry(a) => crate::bench_geometry::run(a),
+        BenchCommand::Track(a) => crate::bench_track::run(a),
         BenchCommand::PredictOne(a) => predict_one(a),
+        BenchCommand::TrackOne(a) => crate::bench_track::run_one(a),
     }
 }
 
@@ -377,21 +387,10 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
         if let Some(c) = &a.config {
             cmd.arg("--config").arg(c);
         }
-        let t = Instant::now();
-        let out = cmd
-            .stdin(Stdio::null())
-            .output()
-            .with_context(|| format!("running {}", exe.display()))?;
-        let process_s = t.elapsed().as_secs_f64();
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        let report = stdout
-            .lines()
-            .rev()
-            .find(|l| l.starts_with('{'))
-            .and_then(|l| serde_json::from_str::<CaseReport>(l).ok());
+        let (report, process_s) = run_child::<CaseReport>(&mut cmd)?;
         let lead = format!("| {} | {} | {} |", c.backend, c.hessian, c.guess);
         match report {
-            Some(r) if out.status.success() => {
+            Ok(r) => {
                 let f2 = |v: f64| format!("{v:.2}");
                 println!(
                     "{lead} {} | {} | {} | {:.6} | {} | {} | {} | {} | {} | {} | {} | {} |",
@@ -411,27 +410,48 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
                         .map_or("n/a".into(), |k| format!("{:.0}", k as f64 / 1024.0)),
                 );
             }
-            _ => {
-                let stderr = String::from_utf8_lossy(&out.stderr);
-                let why = stderr
-                    .lines()
-                    .rev()
-                    .find(|l| !l.trim().is_empty())
-                    .unwrap_or("no output")
-                    .replace('|', "/");
-                println!(
-                    "{lead} | failed ({}): {why} | | | {process_s:.2} | | | | | | | |",
-                    out.status
-                );
-            }
+            Err(why) => println!("{lead} | {why} | | | {process_s:.2} | | | | | | | |"),
         }
         std::io::stdout().flush()?;
     }
     Ok(())
 }
 
+/// Runs a benchmark's child process `cmd`: its report (the last JSON line of its output),
+/// or why there is none (exit status and last line of its error output, `|` replaced so
+/// that it fits a table cell), and its wall time [s].
+pub(crate) fn run_child<T: serde::de::DeserializeOwned>(
+    cmd: &mut Command,
+) -> anyhow::Result<(Result<T, String>, f64)> {
+    let t = Instant::now();
+    let out = cmd
+        .stdin(Stdio::null())
+        .output()
+        .context("running the stride executable")?;
+    let process_s = t.elapsed().as_secs_f64();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let report = stdout
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .and_then(|l| serde_json::from_str::<T>(l).ok());
+    Ok(match report {
+        Some(r) if out.status.success() => (Ok(r), process_s),
+        _ => {
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            let why = stderr
+                .lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("no output")
+                .replace('|', "/");
+            (Err(format!("failed ({}): {why}", out.status)), process_s)
+        }
+    })
+}
+
 /// Resident-set high-water mark of this process [KiB] (`VmHWM` of /proc/self/status).
-fn peak_rss_kib() -> Option<u64> {
+pub(crate) fn peak_rss_kib() -> Option<u64> {
     if !cfg!(target_os = "linux") {
         return None;
     }

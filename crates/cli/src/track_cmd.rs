@@ -17,9 +17,17 @@ pub struct TrackArgs {
     /// Settings file (TOML) with a `[track]` section (and `model`, `output`, `[solver]`).
     #[arg(long)]
     pub config: Option<PathBuf>,
-    /// OpenSim model (default: the built-in subject model).
-    #[arg(long)]
+    /// Model: a shipped model's name (`gait1018`, …) or an OpenSim model file (.osim)
+    /// [default: the built-in subject1 model of the paper].
+    #[arg(long, value_name = "NAME|FILE")]
     pub model: Option<PathBuf>,
+    /// The model's settings file (contact spheres, passive torques, actuators, …; see
+    /// docs/settings.md) [default: `<model>.toml` beside the model file, if any].
+    #[arg(long, value_name = "FILE")]
+    pub model_settings: Option<PathBuf>,
+    /// Fitted muscle geometry of the model (`stride model fit --out`).
+    #[arg(long, value_name = "FILE")]
+    pub geometry: Option<PathBuf>,
     /// Joint angles to track (.mot); default: the shipped trial gait_1.
     #[arg(long)]
     pub motion: Option<PathBuf>,
@@ -32,6 +40,10 @@ pub struct TrackArgs {
     /// Time window start and end [s] (default 3.45,4.25).
     #[arg(long, value_delimiter = ',')]
     pub window: Option<Vec<f64>>,
+    /// Cut-off of the low-pass filter of the joint angles [Hz] (default 6; 0: no filter,
+    /// for simulated motions).
+    #[arg(long, value_name = "HZ")]
+    pub filter_cutoff: Option<f64>,
     /// Mesh intervals over the window (default 50).
     #[arg(long)]
     pub mesh: Option<usize>,
@@ -76,6 +88,8 @@ struct SolverSection {
 #[serde(deny_unknown_fields)]
 struct TrackFile {
     model: Option<PathBuf>,
+    model_settings: Option<PathBuf>,
+    geometry: Option<PathBuf>,
     output: Option<PathBuf>,
     #[serde(default)]
     track: TrackSettings,
@@ -96,6 +110,9 @@ fn settings(args: &TrackArgs, file: &TrackFile) -> anyhow::Result<TrackSettings>
             bail!("--window takes two times: start,end [s]");
         }
         s.window = [w[0], w[1]];
+    }
+    if let Some(f) = args.filter_cutoff {
+        s.filter_cutoff_hz = f;
     }
     if let Some(n) = args.mesh {
         s.mesh_intervals = n;
@@ -130,11 +147,21 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
     )?;
     check_correctors(&options, "ipm")?;
     options.threads = args.threads.unwrap_or(0);
-    let model = match args.model.as_ref().or(file.model.as_ref()) {
-        Some(p) => stride_model::osim::load_osim(p)
-            .with_context(|| format!("loading model {}", p.display()))?,
-        None => stride_model::default_model::default_model(),
-    };
+    let model = crate::model_load::load_model(
+        args.model
+            .as_ref()
+            .or(file.model.as_ref())
+            .map(PathBuf::as_path),
+        args.model_settings
+            .as_ref()
+            .or(file.model_settings.as_ref())
+            .map(PathBuf::as_path),
+        args.geometry
+            .as_ref()
+            .or(file.geometry.as_ref())
+            .map(PathBuf::as_path),
+        args.quiet,
+    )?;
     let out = crate::predict_cmd::output_folder(
         args.out.clone().or(file.output.clone()),
         PathBuf::from("out/track"),

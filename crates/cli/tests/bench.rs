@@ -86,6 +86,12 @@ fn bench_rejects_bad_arguments_with_one_line() {
         &["bench", "predict", "--presolve-mesh", "1"],
         "presolve_mesh 1",
     );
+    rejects(&["bench", "track", "--mesh", "1"], "--mesh 1");
+    rejects(
+        &["bench", "track", "--hessian", "newton"],
+        "unknown hessian `newton`",
+    );
+    rejects(&["bench", "track", "--max-iter", "0"], "--max-iter 0");
     if !cfg!(feature = "ipopt") {
         rejects(
             &["bench", "solver", "--backend", "ipopt"],

@@ -5,6 +5,7 @@
 mod common;
 use common::rejects;
 use std::path::{Path, PathBuf};
+use stride_model::storage::Storage;
 
 /// A fresh scratch folder for one test.
 fn scratch(tag: &str) -> PathBuf {
@@ -115,5 +116,127 @@ fn a_contact_geometry_naming_an_unknown_sphere_is_rejected_before_solving() {
         "spheres.toml: sphere `heel_r`",
     );
     assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The shipped 2D model's own predicted gait (`tests/data/gait1018_prediction`).
+fn prediction(file: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/gait1018_prediction")
+        .join(file)
+}
+
+/// The arguments of `stride track --model gait1018` with output folder `out`, then `extra`.
+fn gait1018_args<'a>(out: &'a Path, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "track",
+        "--model",
+        "gait1018",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    args
+}
+
+/// Linear interpolation of `column` of `s` at time `t`.
+fn at(s: &Storage, column: &str, t: f64) -> f64 {
+    let (time, v) = (s.time(), s.column(column).unwrap());
+    let k = time.partition_point(|&x| x <= t).clamp(1, time.len() - 1) - 1;
+    let w = (t - time[k]) / (time[k + 1] - time[k]);
+    v[k] + w * (v[k + 1] - v[k])
+}
+
+#[test]
+fn gait1018_tracking_its_own_prediction_reproduces_the_predicted_angles_within_1_degree() {
+    let d = scratch("gait1018");
+    let out = d.join("out");
+    let predicted = Storage::read(&prediction("motion.mot")).unwrap();
+    let end = *predicted.time().last().unwrap();
+    let window = format!("0,{end}");
+    let (motion, grf) = (prediction("motion.mot"), prediction("grf.mot"));
+    let run = common::stride(&gait1018_args(
+        &out,
+        &[
+            "--motion",
+            &s(&motion),
+            "--grf",
+            &s(&grf),
+            "--window",
+            &window,
+            "--mesh",
+            "33",
+            "--filter-cutoff",
+            "0",
+        ],
+    ));
+    assert!(run.status.success(), "{run:?}");
+    let tracked = Storage::read(&out.join("motion.mot")).unwrap();
+    let angles = [
+        "pelvis_tilt",
+        "hip_flexion_l",
+        "hip_flexion_r",
+        "knee_angle_l",
+        "knee_angle_r",
+        "ankle_angle_l",
+        "ankle_angle_r",
+        "lumbar_extension",
+    ];
+    for name in angles {
+        let model = tracked.column(name).unwrap();
+        let sq: f64 = tracked
+            .time()
+            .iter()
+            .zip(&model)
+            .map(|(&t, m)| (m - at(&predicted, name, t)).powi(2))
+            .sum();
+        let rmse = (sq / model.len() as f64).sqrt();
+        assert!(rmse < 1.0, "{name}: RMSE {rmse:.3}° against the prediction");
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "Optimal");
+    for bw in summary["errors"]["grf_percent_body_weight"]
+        .as_array()
+        .unwrap()
+    {
+        assert!(bw.as_f64().unwrap() < 5.0, "GRF RMSE {bw} % of body weight");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn bad_input_is_rejected_for_another_model_too() {
+    let d = scratch("gait1018-bad");
+    let out = d.join("out");
+    // gait1018 is planar: no hip adduction
+    let cfg = d.join("track.toml");
+    std::fs::write(&cfg, "[track]\ncoordinates = [\"hip_adduction_r\"]\n").unwrap();
+    let cfg = s(&cfg);
+    let motion = s(&prediction("motion.mot"));
+    let grf = prediction("grf.mot");
+    let track = |extra: &[&str], needle: &str| {
+        let mut args = vec!["--motion", &motion];
+        args.extend_from_slice(extra);
+        rejects(&gait1018_args(&out, &args), needle);
+        assert!(!out.exists(), "{needle}: {} was written", out.display());
+    };
+    let grf_s = s(&grf);
+    track(
+        &["--grf", &grf_s, "--config", &cfg, "--window", "0,0.9"],
+        "motion.mot: tracked column `hip_adduction_r` names no coordinate",
+    );
+    track(
+        &["--grf", &grf_s, "--window", "0.5,1.5"],
+        "motion.mot: window [0.5, 1.5] s",
+    );
+    let bad = d.join("bad_grf.mot");
+    let text = std::fs::read_to_string(&grf).unwrap();
+    std::fs::write(&bad, text.replace("l_ground_torque_y", "l_ground_torque_w")).unwrap();
+    track(
+        &["--grf", &s(&bad), "--window", "0,0.9"],
+        "bad_grf.mot: no column `l_ground_torque_y`",
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

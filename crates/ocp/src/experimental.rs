@@ -65,7 +65,18 @@ impl Kinematics {
         gait: &GaitModel,
         source: &str,
     ) -> Result<Self, KinematicsError> {
-        let k = Self::matching(storage, gait, source)?;
+        Self::from_storage_filtered(storage, gait, source, FILTER_CUTOFF_HZ)
+    }
+
+    /// [`Kinematics::from_storage`] with the low-pass cut-off `cutoff_hz` [Hz]; 0: the
+    /// columns are splined as they are (simulated data).
+    pub fn from_storage_filtered(
+        storage: &Storage,
+        gait: &GaitModel,
+        source: &str,
+        cutoff_hz: f64,
+    ) -> Result<Self, KinematicsError> {
+        let k = Self::matching_filtered(storage, gait, source, cutoff_hz)?;
         match k.measured.iter().position(|&m| !m) {
             Some(i) => Err(KinematicsError::MissingColumn {
                 file: source.into(),
@@ -82,6 +93,16 @@ impl Kinematics {
         storage: &Storage,
         gait: &GaitModel,
         source: &str,
+    ) -> Result<Self, KinematicsError> {
+        Self::matching_filtered(storage, gait, source, FILTER_CUTOFF_HZ)
+    }
+
+    /// [`Kinematics::matching`] with the low-pass cut-off `cutoff_hz` [Hz] (0: none).
+    fn matching_filtered(
+        storage: &Storage,
+        gait: &GaitModel,
+        source: &str,
+        cutoff_hz: f64,
     ) -> Result<Self, KinematicsError> {
         let time = storage.time();
         let ns = time.len();
@@ -111,8 +132,11 @@ impl Kinematics {
                 coordinate: c.name.clone(),
                 reason: e.to_string(),
             };
-            let filtered =
-                signal::lowpass_filtfilt(&col, FILTER_CUTOFF_HZ, fs).map_err(signal_error)?;
+            let filtered = if cutoff_hz > 0.0 {
+                signal::lowpass_filtfilt(&col, cutoff_hz, fs).map_err(signal_error)?
+            } else {
+                col
+            };
             let spline = signal::NotAKnotSpline::new(&time, &filtered).map_err(signal_error)?;
             for s in 0..ns {
                 let [p, d1, d2] = spline.eval(time[s]);

@@ -3,6 +3,7 @@
 //! scaling to [−0.5, 0.5], and read by the node function as extra inputs placed after its
 //! variable inputs. What a parameter sets in the model is a list of [`ParameterTarget`]s.
 
+use serde::Serialize;
 use stride_ad::Scalar;
 use stride_model::Model;
 use stride_multibody::SphereGeometry;
@@ -55,6 +56,50 @@ impl StaticParameter {
     pub fn unscale<T: Scalar>(&self, scaled: T) -> T {
         let range = self.upper - self.lower;
         (scaled - (0.5 - self.upper / range)) * range
+    }
+}
+
+/// A value closer to a bound than this fraction of the bounds' range is reported at that
+/// bound (an interior-point solution stops just inside an active bound).
+pub const AT_BOUND_FRACTION: f64 = 0.01;
+
+/// A solved static parameter as the result files report it (physical units).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ParameterValue {
+    /// Parameter name.
+    pub name: String,
+    /// Value at the solution.
+    pub value: f64,
+    /// Lower bound.
+    pub lower: f64,
+    /// Upper bound.
+    pub upper: f64,
+    /// Initial value (the generic one).
+    pub initial: f64,
+    /// `"lower"` or `"upper"` when the value is within [`AT_BOUND_FRACTION`] of the range
+    /// of that bound, else none.
+    pub at_bound: Option<&'static str>,
+}
+
+impl StaticParameter {
+    /// The report of the physical value `value` of this parameter.
+    pub fn report(&self, value: f64) -> ParameterValue {
+        let tol = AT_BOUND_FRACTION * (self.upper - self.lower);
+        let at_bound = if value - self.lower <= tol {
+            Some("lower")
+        } else if self.upper - value <= tol {
+            Some("upper")
+        } else {
+            None
+        };
+        ParameterValue {
+            name: self.name.clone(),
+            value,
+            lower: self.lower,
+            upper: self.upper,
+            initial: self.initial,
+            at_bound,
+        }
     }
 }
 
@@ -149,6 +194,16 @@ impl StaticParameters {
             .collect()
     }
 
+    /// The reports of the parameters whose NLP variables are `scaled`.
+    pub fn reports(&self, scaled: &[f64]) -> Vec<ParameterValue> {
+        let values = self.values(scaled);
+        self.list
+            .iter()
+            .zip(values)
+            .map(|(p, v)| p.report(v))
+            .collect()
+    }
+
     /// Whether any parameter sets contact-sphere geometry.
     pub fn sets_contact(&self) -> bool {
         !self.list.iter().all(|p| p.targets.is_empty())
@@ -181,20 +236,36 @@ impl StaticParameters {
 mod tests {
     use super::*;
 
-    #[test]
-    fn scaling_maps_the_bounds_to_plus_minus_one_half_and_back() {
-        let p = StaticParameter {
+    /// A radius of 32 mm ± 50 % (the contact calibration's).
+    fn radius() -> StaticParameter {
+        StaticParameter {
             name: "r".into(),
             lower: 0.016,
             upper: 0.048,
             initial: 0.032,
             targets: vec![],
-        };
+        }
+    }
+
+    #[test]
+    fn scaling_maps_the_bounds_to_plus_minus_one_half_and_back() {
+        let p = radius();
         assert!((p.scale(0.016) + 0.5).abs() < 1e-14);
         assert!((p.scale(0.048) - 0.5).abs() < 1e-14);
         assert!(p.scale(0.032).abs() < 1e-14);
         for v in [0.02, 0.031, 0.047] {
             assert!((p.unscale(p.scale(v)) - v).abs() < 1e-15);
         }
+    }
+
+    #[test]
+    fn a_value_within_one_percent_of_the_range_of_a_bound_is_reported_at_it() {
+        let p = radius();
+        // range 0.032 m: 1 % is 0.32 mm
+        assert_eq!(p.report(0.0163).at_bound, Some("lower"));
+        assert_eq!(p.report(0.0164).at_bound, None);
+        assert_eq!(p.report(0.0477).at_bound, Some("upper"));
+        assert_eq!(p.report(0.0476).at_bound, None);
+        assert_eq!(p.report(0.03).initial, 0.032);
     }
 }

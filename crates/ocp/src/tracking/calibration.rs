@@ -118,11 +118,21 @@ pub fn calibrated_geometry(
     g
 }
 
-/// CSV of the calibrated parameters: name, value, lower and upper bound, generic value [m].
-pub fn parameters_csv(statics: &StaticParameters, values: &[f64]) -> String {
-    let mut s = String::from("parameter,value_m,lower_m,upper_m,generic_m\n");
-    for (p, v) in statics.list.iter().zip(values) {
-        s += &format!("{},{v},{},{},{}\n", p.name, p.lower, p.upper, p.initial);
+/// CSV of the calibrated parameters: name, value, lower and upper bound, generic value
+/// [m], and the bound the value ends at (`lower`, `upper`, or empty; see
+/// [`crate::statics::AT_BOUND_FRACTION`]), for the NLP variables `scaled`.
+pub fn parameters_csv(statics: &StaticParameters, scaled: &[f64]) -> String {
+    let mut s = String::from("parameter,value_m,lower_m,upper_m,generic_m,at_bound\n");
+    for p in statics.reports(scaled) {
+        s += &format!(
+            "{},{},{},{},{},{}\n",
+            p.name,
+            p.value,
+            p.lower,
+            p.upper,
+            p.initial,
+            p.at_bound.unwrap_or("")
+        );
     }
     s
 }

@@ -39,10 +39,14 @@ pub struct TrackSettings {
     /// Net joint torques (`.sto`); optional with `motion` (without: neither torques nor
     /// root residuals are tracked).
     pub torques: Option<PathBuf>,
-    /// Column prefixes of the right and the left foot in the GRF file.
-    pub grf_prefixes: [String; 2],
+    /// Column prefixes of the right and the left foot in the GRF file; unset: the first of
+    /// [`trial::KNOWN_GRF_PREFIXES`] the file has.
+    pub grf_prefixes: Option<[String; 2]>,
     /// Time window [s] of the trial.
     pub window: [f64; 2],
+    /// Cut-off [Hz] of the zero-lag low-pass filter applied to the joint angles before
+    /// they are splined; 0: no filter (simulated motions).
+    pub filter_cutoff_hz: f64,
     /// Mesh intervals over the window.
     pub mesh_intervals: usize,
     /// Tracked coordinates; unset: every coordinate but the vertical pelvis translation.
@@ -62,8 +66,9 @@ impl Default for TrackSettings {
             motion: None,
             grf: None,
             torques: None,
-            grf_prefixes: ["1_".into(), String::new()],
+            grf_prefixes: None,
             window: [3.45, 4.25],
+            filter_cutoff_hz: crate::experimental::FILTER_CUTOFF_HZ,
             mesh_intervals: 50,
             coordinates: None,
             track_torques: true,
@@ -111,6 +116,12 @@ impl TrackSettings {
             return Err(TrackError::Settings(format!(
                 "mesh_intervals = {}: at least 2",
                 self.mesh_intervals
+            )));
+        }
+        if !(self.filter_cutoff_hz.is_finite() && self.filter_cutoff_hz >= 0.0) {
+            return Err(TrackError::Settings(format!(
+                "filter_cutoff_hz = {}: a frequency ≥ 0 Hz (0: no filter)",
+                self.filter_cutoff_hz
             )));
         }
         let w = &self.weights;
@@ -192,11 +203,18 @@ impl TrackingProblem {
             ..Default::default()
         };
         let mut problem = GaitProblem::new(model, &ps, &files.motion.1)?;
-        let prefixes = [
-            settings.grf_prefixes[0].as_str(),
-            settings.grf_prefixes[1].as_str(),
-        ];
-        let trial = Trial::new(&files, &problem.gait, settings.window, prefixes)?;
+        let mut settings = settings.clone();
+        let prefixes = settings
+            .grf_prefixes
+            .get_or_insert_with(|| trial::detect_grf_prefixes(&files.grf.1).map(String::from));
+        let prefixes = [prefixes[0].as_str(), prefixes[1].as_str()];
+        let trial = Trial::new(
+            &files,
+            &problem.gait,
+            settings.window,
+            prefixes,
+            settings.filter_cutoff_hz,
+        )?;
         // bounds: the trial's range widened by one range (FORMULATION 12.6)
         let [rq, rv, ra] = trial.ranges();
         problem.bounds = CoordinateBounds {
@@ -205,7 +223,7 @@ impl TrackingProblem {
             a: ra.into_iter().map(|r| widen(r, 1.0)).collect(),
         };
         problem.scaling = Scaling::new(&problem.bounds);
-        let terms = tracking_terms(&problem, &trial, settings, &files.motion.0)?;
+        let terms = tracking_terms(&problem, &trial, &settings, &files.motion.0)?;
         let [t0, t1] = settings.window;
         let n = settings.mesh_intervals;
         let h = (t1 - t0) / n as f64;
@@ -242,7 +260,7 @@ impl TrackingProblem {
             samples,
             data,
             x0,
-            settings: settings.clone(),
+            settings,
         })
     }
 

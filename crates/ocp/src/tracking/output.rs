@@ -215,6 +215,10 @@ pub struct TrackSummary<'a> {
     pub nlp_variables: usize,
     /// Tracking errors.
     pub errors: TrackingErrors,
+    /// Calibrated static parameters (the contact calibration's, in m), with their bounds
+    /// and whether each ends at one.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub static_parameters: Vec<crate::statics::ParameterValue>,
     /// Settings of the run.
     pub settings: &'a super::TrackSettings,
     /// Solver name and options.
@@ -261,6 +265,7 @@ pub fn write_results(
         time_total_s: r.time_total.as_secs_f64(),
         nlp_variables: tp.problem.layout.len() + tp.statics.len(),
         errors: errors.clone(),
+        static_parameters: tp.statics.reports(tp.static_variables(&r.x)),
         settings: &tp.settings,
         solver: solver.into(),
         solver_options: options,
@@ -335,13 +340,12 @@ pub fn write_results(
 /// (`contact_geometry.toml`).
 fn calibration_files(tp: &TrackingProblem, x: &[f64]) -> Vec<(String, Vec<u8>)> {
     let scaled = tp.static_variables(x);
-    let values = tp.statics.values(scaled);
     let geometry = super::calibration::calibrated_geometry(&tp.problem.model, &tp.statics, scaled);
     let header = "contact spheres calibrated by `stride track --calibrate-contact` (FORMULATION 12.6); use with the problem setting contact_geometry";
     vec![
         (
             "contact_parameters.csv".into(),
-            super::calibration::parameters_csv(&tp.statics, &values).into_bytes(),
+            super::calibration::parameters_csv(&tp.statics, scaled).into_bytes(),
         ),
         (
             "contact_geometry.toml".into(),

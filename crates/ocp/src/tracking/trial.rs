@@ -109,6 +109,24 @@ pub const GRF_COLUMNS: [&str; 9] = [
     "ground_torque_z",
 ];
 
+/// The column prefixes (right, left foot) of the GRF files stride knows: OpenSim's example
+/// trials such as the shipped gait_1 (`1_ground_force_vx`, `ground_force_vx`) and the
+/// `grf.mot` of a stride prediction (`r_ground_force_vx`, `l_ground_force_vx`).
+pub const KNOWN_GRF_PREFIXES: [[&str; 2]; 2] = [["1_", ""], ["r_", "l_"]];
+
+/// The first of [`KNOWN_GRF_PREFIXES`] whose force columns `grf` has for both feet (the
+/// first convention when none matches, so that the error names its missing column).
+pub fn detect_grf_prefixes(grf: &Storage) -> [&'static str; 2] {
+    let has = |p: &[&str; 2]| {
+        p.iter()
+            .all(|f| grf.column(&format!("{f}{}", GRF_COLUMNS[0])).is_some())
+    };
+    KNOWN_GRF_PREFIXES
+        .into_iter()
+        .find(has)
+        .unwrap_or(KNOWN_GRF_PREFIXES[0])
+}
+
 /// The measured quantities at one time, in SI units and problem coordinate order.
 #[derive(Clone, Debug, Default)]
 pub struct Sample {
@@ -170,16 +188,18 @@ fn check_window(file: &str, time: &[f64], window: [f64; 2]) -> Result<(), TrialE
 
 impl Trial {
     /// Checks and prepares `files` for `gait` over `window` [s]; the right foot's GRF
-    /// columns start with `prefixes[0]`, the left foot's with `prefixes[1]`.
+    /// columns start with `prefixes[0]`, the left foot's with `prefixes[1]`; the joint
+    /// angles are low-pass filtered at `cutoff_hz` [Hz] (0: not filtered).
     pub fn new(
         files: &TrialFiles,
         gait: &GaitModel,
         window: [f64; 2],
         prefixes: [&str; 2],
+        cutoff_hz: f64,
     ) -> Result<Self, TrialError> {
         let (mname, motion) = &files.motion;
         check_window(mname, &motion.time(), window)?;
-        let mut kin = Kinematics::from_storage(motion, gait, mname)?;
+        let mut kin = Kinematics::from_storage_filtered(motion, gait, mname, cutoff_hz)?;
         let tx = gait.forward_translation;
         let tx_offset = interp::<1>(&kin.time, window[0], |s| [kin.q[s][tx]])[0];
         kin.q.iter_mut().for_each(|r| r[tx] -= tx_offset);
