@@ -3,7 +3,8 @@
 PredSim's rules (../shared/reference/PREDSIM.md sections 3.4, 3.6, 4, 5, 8), written out
 per model: limit torques of the FORMULATION 6.1 table by coordinate name (plus the mtp
 row), damping 0.1 N m s/rad on every coordinate that is not the floating base, the mtp
-spring and damping of each model, metabolic parameters by exact muscle name (gait2392
+spring and damping of each model, the tendon stiffness scale 0.5 of the calf muscles
+(gait1018: names containing soleus or gastroc; DHondt: soleus or _gas), metabolic parameters by exact muscle name (gait2392
 values; the 2D model's lumped muscles; 0.5 / 0.25 MPa otherwise) and the distance
 constraints. Usage (from the repository root):
 
@@ -48,7 +49,7 @@ def arr(xs):
     return "[" + ", ".join(num(x) for x in xs) + "]"
 
 
-def write(name, stem, header, mtp, distances, lumped):
+def write(name, stem, header, mtp, distances, lumped, tendon_half=()):
     osim = (OUT / name / f"{stem}.osim").read_text()
     coords = names(osim, "Coordinate")
     muscles = [m for tag in ("Thelen2003Muscle", "DeGrooteFregly2016Muscle", "Millard2012EquilibriumMuscle")
@@ -80,6 +81,9 @@ def write(name, stem, header, mtp, distances, lumped):
             lines += ["[[coordinate_springs]]", f'coordinate = "{c}"', f"stiffness = {num(mtp['stiffness'])}", ""]
     for a, b, lo in distances:
         lines += ["[[distances]]", f'bodies = ["{a}", "{b}"]', f"min = {num(lo)}", ""]
+    if tendon_half:
+        lines += ["[[muscle_parameters]]", "match = [" + ", ".join(f'"{m}"' for m in tendon_half) + "]",
+                  "tendon_stiffness_scale = 0.5", ""]
     lines.append("[metabolic.muscles]")
     for m in muscles:
         if m.endswith("_l") and m[:-2] + "_r" in muscles:
@@ -100,7 +104,7 @@ write("falisse2022", "Falisse_et_al_2022",
       {"stiffness": 25.0, "damping": 2.0}, DISTANCES_3D, {})
 write("dhondt2024", "DHondt_et_al_2024_4seg",
       HEAD.format(what="DHondt_et_al_2024_4seg", src="settings_DHondt_et_al_2024_4seg.m: mtp k 1 N m/rad"),
-      {"stiffness": 1.0, "damping": 0.1}, DISTANCES_3D, {})
+      {"stiffness": 1.0, "damping": 0.1}, DISTANCES_3D, {}, ("soleus", "_gas"))
 write("gait1018", "gait1018",
       HEAD.format(what="gait1018 (2D)", src="settings_gait1018.m: no distance constraints"),
-      None, [], LUMPED_2D)
+      None, [], LUMPED_2D, ("soleus", "gastroc"))

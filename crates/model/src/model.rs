@@ -247,6 +247,15 @@ pub struct Muscle {
     pub slow_twitch_fraction: f64,
     /// Specific tension σ [Pa] used for the muscle mass (0.25 MPa when unknown).
     pub specific_tension: f64,
+    /// Factor on the tendon stiffness: the muscle's k_T is the problem's k_T (35) times
+    /// this, with the tendon curve shift recomputed (PredSim's `tendon_stiff_scale`; 1
+    /// when unset).
+    #[serde(default = "unit_scale")]
+    pub tendon_stiffness_scale: f64,
+}
+
+fn unit_scale() -> f64 {
+    1.0
 }
 
 /// Polynomial approximation of a muscle–tendon length:

@@ -113,7 +113,8 @@ impl HillParams {
         Ok(p)
     }
 
-    /// Parameters of a model muscle (its `max_contraction_velocity` is in l_opt s⁻¹).
+    /// Parameters of a model muscle (its `max_contraction_velocity` is in l_opt s⁻¹), with
+    /// tendon stiffness 35 × its `tendon_stiffness_scale`.
     pub fn from_muscle(m: &Muscle) -> Result<Self, MuscleError> {
         Self::new(
             &m.name,
@@ -124,7 +125,8 @@ impl HillParams {
             m.max_contraction_velocity,
             m.specific_tension,
             m.slow_twitch_fraction,
-        )
+        )?
+        .with_tendon_stiffness(TENDON_STIFFNESS_DEFAULT * m.tendon_stiffness_scale)
     }
 
     fn update(&mut self) {

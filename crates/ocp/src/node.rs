@@ -158,8 +158,10 @@ impl NodeModel {
         let muscle_model = g.muscles.clone();
         let mut hill = Vec::with_capacity(g.nm());
         for &mi in &muscle_model {
-            let h = HillParams::from_muscle(&model.muscles[mi])
-                .and_then(|h| h.with_tendon_stiffness(p.settings.tendon_stiffness))
+            let m = &model.muscles[mi];
+            let k_t = p.settings.tendon_stiffness * m.tendon_stiffness_scale;
+            let h = HillParams::from_muscle(m)
+                .and_then(|h| h.with_tendon_stiffness(k_t))
                 .map_err(|e| ProblemError::Model(e.to_string()))?;
             hill.push(h);
         }

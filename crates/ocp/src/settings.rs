@@ -25,7 +25,8 @@ pub struct ProblemSettings {
     pub activation_min: f64,
     /// Maximal contraction velocity [optimal fibre lengths per second] (10 nominal).
     pub max_contraction_velocity: f64,
-    /// Tendon stiffness k_T of the normalised tendon force–length curve (35 nominal).
+    /// Tendon stiffness k_T of the normalised tendon force–length curve (35 nominal); a
+    /// muscle's k_T is this times its model `tendon_stiffness_scale`.
     pub tendon_stiffness: f64,
     /// Half-width of the smooth transition of min(v_slip / v_t, 1) in every contact
     /// sphere's friction law, as a fraction of the transition velocity v_t (0.01: ±2 mm/s

@@ -3,8 +3,8 @@
 //! file of the built-in model is written.
 
 use super::{
-    ActuatorSetting, ContactSettings, ModelSettings, MuscleMetabolic, PassiveTorqueEntry,
-    SphereSetting,
+    ActuatorSetting, ContactSettings, ModelSettings, MuscleMetabolic, MuscleParameters,
+    PassiveTorqueEntry, SphereSetting,
 };
 use crate::model::Model;
 
@@ -73,6 +73,9 @@ impl ModelSettings {
             })
             .collect();
         s.metabolic.muscles = metabolic_entries(model, s.metabolic.mirror_left);
+        s.muscle_parameters = muscle_parameters(model).ok_or_else(|| {
+            err("a muscle name that selects muscles of different tendon stiffness scales")
+        })?;
         Ok(s)
     }
 }
@@ -96,6 +99,33 @@ fn passive_table(model: &Model) -> Vec<PassiveTorqueEntry> {
         }
     }
     table
+}
+
+/// One entry per tendon stiffness scale other than 1, matching its muscles by full name;
+/// `None` when a name also selects a muscle of another scale.
+fn muscle_parameters(model: &Model) -> Option<Vec<MuscleParameters>> {
+    let mut out: Vec<MuscleParameters> = Vec::new();
+    for m in model
+        .muscles
+        .iter()
+        .filter(|m| m.tendon_stiffness_scale != 1.0)
+    {
+        let scale = Some(m.tendon_stiffness_scale);
+        match out.iter_mut().find(|e| e.tendon_stiffness_scale == scale) {
+            Some(e) => e.matches.push(m.name.clone()),
+            None => out.push(MuscleParameters {
+                matches: vec![m.name.clone()],
+                tendon_stiffness_scale: scale,
+                line: None,
+            }),
+        }
+    }
+    let unambiguous = model.muscles.iter().all(|m| {
+        out.iter()
+            .filter(|e| e.matches.iter().any(|n| m.name.contains(n.as_str())))
+            .all(|e| e.tendon_stiffness_scale == Some(m.tendon_stiffness_scale))
+    });
+    unambiguous.then_some(out)
 }
 
 /// One entry per muscle, except left muscles equal to their right muscle when mirrored.

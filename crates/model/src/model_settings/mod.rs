@@ -2,7 +2,7 @@
 //! does not carry, or what the user wants to change, for a gait prediction — contact
 //! spheres, passive joint torques, coordinate actuators, per-muscle metabolic parameters,
 //! the fitted muscle-geometry file, distance constraints between bodies, springs on
-//! coordinates and gravity. Every field has a default; unknown keys are errors naming the
+//! coordinates, per-muscle parameter changes and gravity. Every field has a default; unknown keys are errors naming the
 //! file, line and key. [`ModelSettings::apply`] puts the settings into an imported
 //! [`Model`].
 
@@ -43,6 +43,10 @@ pub struct ModelSettings {
     /// added to the model's coordinate forces.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub coordinate_springs: Vec<CoordinateSpring>,
+    /// Per-muscle parameter changes, each for the muscles its `match` selects; later
+    /// entries override earlier ones for the keys they set.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub muscle_parameters: Vec<MuscleParameters>,
 }
 
 /// Contact spheres between the feet and the ground half-space.
@@ -221,6 +225,23 @@ pub struct CoordinateSpring {
     pub damping: f64,
 }
 
+/// Parameter changes of the muscles selected by name (`[[muscle_parameters]]`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MuscleParameters {
+    /// A muscle is selected when its name contains any of these strings (PredSim's rule);
+    /// each string must select at least one muscle.
+    #[serde(rename = "match")]
+    pub matches: Vec<String>,
+    /// Factor s on the tendon stiffness: k_T = 35 s (the problem's k_T times s), the
+    /// tendon curve shift recomputed (PredSim's `tendon_stiff_scale`); absent: unchanged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tendon_stiffness_scale: Option<f64>,
+    /// Line of the entry's `match` in the settings file, for errors (not a key).
+    #[serde(skip)]
+    pub line: Option<usize>,
+}
+
 /// A settings file that cannot be read or does not fit the model.
 #[derive(Debug, thiserror::Error)]
 pub enum ModelSettingsError {
@@ -240,6 +261,18 @@ pub enum ModelSettingsError {
         /// Line (1-based).
         line: usize,
         /// What is wrong, with the key.
+        message: String,
+    },
+    /// A value of a known line does not fit the model or its range.
+    #[error("{file}:{line}: `{key}`: {message}")]
+    ValueAt {
+        /// The settings file.
+        file: String,
+        /// Line (1-based).
+        line: usize,
+        /// Dotted key of the offending setting.
+        key: String,
+        /// What is wrong.
         message: String,
     },
     /// A value does not fit the model or its range.
@@ -280,13 +313,18 @@ impl ModelSettings {
 
     /// Parse settings from TOML text; `file` names the source in errors.
     pub fn parse(text: &str, file: &str) -> Result<Self, ModelSettingsError> {
-        toml::from_str(text).map_err(|e| ModelSettingsError::Syntax {
+        let line_of = |at: usize| text[..at.min(text.len())].matches('\n').count() + 1;
+        let syntax = |e: toml::de::Error| ModelSettingsError::Syntax {
             file: file.into(),
-            line: e.span().map_or(1, |s| {
-                text[..s.start.min(text.len())].matches('\n').count() + 1
-            }),
+            line: e.span().map_or(1, |s| line_of(s.start)),
             message: e.message().trim().replace('\n', " "),
-        })
+        };
+        let mut s: Self = toml::from_str(text).map_err(syntax)?;
+        let spans: MatchSpans = toml::from_str(text).map_err(syntax)?;
+        for (entry, span) in s.muscle_parameters.iter_mut().zip(spans.muscle_parameters) {
+            entry.line = span.matches.map(|m| line_of(m.span().start));
+        }
+        Ok(s)
     }
 
     /// Put the settings into `model` (imported from `file`'s model): gravity, contact
@@ -311,6 +349,16 @@ impl ModelSettings {
         self.apply_actuators(model).map_err(|(k, m)| err(k, m))?;
         self.apply_metabolic(model).map_err(|(k, m)| err(k, m))?;
         self.apply_springs(model).map_err(|(k, m)| err(k, m))?;
+        self.apply_muscle_parameters(model)
+            .map_err(|(line, key, message)| match line {
+                Some(line) => ModelSettingsError::ValueAt {
+                    file: file.into(),
+                    line,
+                    key,
+                    message,
+                },
+                None => err(key, message),
+            })?;
         for (i, d) in self.distances.iter().enumerate() {
             for b in &d.bodies {
                 if model.body_index(b).is_none() {
@@ -330,6 +378,19 @@ impl ModelSettings {
         model.distance_constraints = self.distances.clone();
         Ok(())
     }
+}
+
+/// Where each `[[muscle_parameters]]` entry's `match` is in the file.
+#[derive(Deserialize)]
+struct MatchSpans {
+    #[serde(default)]
+    muscle_parameters: Vec<MatchSpan>,
+}
+
+#[derive(Deserialize)]
+struct MatchSpan {
+    #[serde(rename = "match")]
+    matches: Option<toml::Spanned<toml::Value>>,
 }
 
 /// A failed setting: its dotted key and what is wrong.
@@ -464,6 +525,44 @@ impl ModelSettings {
         Ok(())
     }
 
+    /// Per-muscle changes; errors carry the line of the entry's `match`.
+    fn apply_muscle_parameters(
+        &self,
+        model: &mut Model,
+    ) -> Result<(), (Option<usize>, String, String)> {
+        for (i, e) in self.muscle_parameters.iter().enumerate() {
+            let fail = |what: &str, message: String| {
+                (e.line, format!("muscle_parameters[{i}]{what}"), message)
+            };
+            let selects = |name: &str| e.matches.iter().any(|m| name.contains(m.as_str()));
+            if e.matches.is_empty() {
+                return Err(fail(".match", "lists no name".into()));
+            }
+            if let Some(m) = e
+                .matches
+                .iter()
+                .find(|m| !model.muscles.iter().any(|x| x.name.contains(m.as_str())))
+            {
+                return Err(fail(
+                    ".match",
+                    format!("`{m}` selects no muscle of the model"),
+                ));
+            }
+            if let Some(s) = e.tendon_stiffness_scale {
+                if !(s.is_finite() && s > 0.0) {
+                    let message = format!("{s} must be finite and > 0");
+                    return Err(fail(".tendon_stiffness_scale", message));
+                }
+            }
+            for muscle in model.muscles.iter_mut().filter(|x| selects(&x.name)) {
+                if let Some(s) = e.tendon_stiffness_scale {
+                    muscle.tendon_stiffness_scale = s;
+                }
+            }
+        }
+        Ok(())
+    }
+
     fn apply_springs(&self, model: &mut Model) -> Result<(), KeyError> {
         for (i, s) in self.coordinate_springs.iter().enumerate() {
             let key = format!("coordinate_springs[{i}]");
@@ -580,7 +679,68 @@ damping = 2.0
     }
 
     #[test]
-    fn names_missing_from_the_model_are_errors_with_their_key() {
+    fn muscle_parameters_select_by_substring_and_later_entries_override() {
+        let text = "[[muscle_parameters]]\nmatch = [\"soleus\", \"_gas\"]\ntendon_stiffness_scale = 0.5\n\n[[muscle_parameters]]\nmatch = [\"med_gas_l\"]\ntendon_stiffness_scale = 0.8\n\n[[muscle_parameters]]\nmatch = [\"tib_ant\"]\n";
+        let mut m = default_model();
+        let s = ModelSettings::parse(text, "t.toml").unwrap();
+        assert_eq!(
+            s.muscle_parameters
+                .iter()
+                .map(|e| e.line)
+                .collect::<Vec<_>>(),
+            [Some(2), Some(6), Some(10)]
+        );
+        s.apply(&mut m, "t.toml").unwrap();
+        let scale = |n: &str| m.muscles[m.muscle_index(n).unwrap()].tendon_stiffness_scale;
+        for n in ["soleus_r", "soleus_l", "med_gas_r", "lat_gas_l"] {
+            assert_eq!(scale(n), 0.5, "{n}");
+        }
+        assert_eq!(scale("med_gas_l"), 0.8);
+        assert_eq!(scale("tib_ant_r"), 1.0);
+        assert_eq!(
+            m.muscles
+                .iter()
+                .filter(|x| x.tendon_stiffness_scale != 1.0)
+                .count(),
+            6
+        );
+    }
+
+    #[test]
+    fn tendon_stiffness_scales_are_described_as_settings() {
+        let mut m = default_model();
+        for x in m.muscles.iter_mut().filter(|x| x.name.contains("soleus")) {
+            x.tendon_stiffness_scale = 0.5;
+        }
+        let s = ModelSettings::of_model(&m).unwrap();
+        let text = toml::to_string(&s).unwrap();
+        let mut back = default_model();
+        ModelSettings::parse(&text, "d.toml")
+            .unwrap()
+            .apply(&mut back, "d.toml")
+            .unwrap();
+        let scales = |m: &Model| -> Vec<f64> {
+            m.muscles.iter().map(|x| x.tendon_stiffness_scale).collect()
+        };
+        assert_eq!(scales(&back), scales(&m));
+    }
+
+    #[test]
+    fn muscle_parameters_unknown_keys_name_file_line_and_key() {
+        let e = ModelSettings::parse(
+            "[[muscle_parameters]]\nmatch = [\"soleus\"]\ntendon_stiffnes_scale = 0.5\n",
+            "t.toml",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with("t.toml:3: ") && e.contains("tendon_stiffnes_scale"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn names_missing_from_the_model_and_bad_values_are_errors_with_their_key() {
         for (text, want) in [
             (
                 "[[contact.spheres]]\nname = \"s\"\nbody = \"foot\"\nlocation = [0.0, 0.0, 0.0]\nradius = 0.03",
@@ -601,6 +761,18 @@ damping = 2.0
             (
                 "[metabolic.muscles]\nsol = { slow_twitch_fraction = 0.5, specific_tension_mpa = 0.3 }",
                 "t.toml: `metabolic.muscles.sol`: the model has no muscle `sol`",
+            ),
+            (
+                "gravity = [0.0, -9.81, 0.0]\n[[muscle_parameters]]\nmatch = [\"soleus\", \"gastroc\"]\ntendon_stiffness_scale = 0.5\n",
+                "t.toml:3: `muscle_parameters[0].match`: `gastroc` selects no muscle of the model",
+            ),
+            (
+                "[[muscle_parameters]]\nmatch = []\n",
+                "t.toml:2: `muscle_parameters[0].match`: lists no name",
+            ),
+            (
+                "[[muscle_parameters]]\nmatch = [\"soleus\"]\ntendon_stiffness_scale = -1.0\n",
+                "t.toml:2: `muscle_parameters[0].tendon_stiffness_scale`: -1 must be finite and > 0",
             ),
         ] {
             let mut m = default_model();

@@ -278,6 +278,7 @@ fn muscle(
         wraps,
         slow_twitch_fraction: 0.5,
         specific_tension: 0.25e6,
+        tendon_stiffness_scale: 1.0,
     })
 }
 
