@@ -250,12 +250,16 @@ pub struct Muscle {
     /// Factor on the tendon stiffness: the muscle's k_T is the problem's k_T (35) times
     /// this, with the tendon curve shift recomputed (PredSim's `tendon_stiff_scale`; 1
     /// when unset).
-    #[serde(default = "unit_scale")]
+    #[serde(default = "unit_scale", skip_serializing_if = "is_unit")]
     pub tendon_stiffness_scale: f64,
 }
 
 fn unit_scale() -> f64 {
     1.0
+}
+
+fn is_unit(x: &f64) -> bool {
+    *x == 1.0
 }
 
 /// Polynomial approximation of a muscle–tendon length:
