@@ -25,6 +25,7 @@ pub mod guess;
 mod jacobian_fill;
 pub mod layout;
 pub mod measures;
+pub mod model_defaults;
 pub mod node;
 pub mod outputs;
 pub mod passive_rules;
