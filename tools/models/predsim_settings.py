@@ -114,4 +114,5 @@ write("dhondt2024", "DHondt_et_al_2024_4seg",
       problem=("# PredSim's N for this model: 100 mesh intervals per half cycle.", "mesh_intervals = 100"))
 write("gait1018", "gait1018",
       HEAD.format(what="gait1018 (2D)", src="settings_gait1018.m: no distance constraints"),
-      None, [], LUMPED_2D, ("soleus", "gastroc"))
+      None, [], LUMPED_2D, ("soleus", "gastroc"),
+      problem=("# PredSim's default speed of this model (settings_gait1018.m).", "speed = 1.25"))

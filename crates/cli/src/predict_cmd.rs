@@ -465,10 +465,14 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
     }
     match (&summary.kept_guess, &summary.outcomes) {
         (Some(k), Some(o)) => println!(
-            "kept {k}: cost of transport {:.3} J/kg/m, stride length {:.3} m, step width {:.3} m, stride frequency {:.3} /s\nresults in {}",
+            "kept {k}: cost of transport {:.3} J/kg/m, stride length {:.3} m, step width {}, stride frequency {:.3} /s\nresults in {}",
             o.cost_of_transport,
             o.stride_length,
-            o.step_width,
+            if o.step_width.is_nan() {
+                "none (2D model)".to_string()
+            } else {
+                format!("{:.3} m", o.step_width)
+            },
             o.stride_frequency,
             out.display()
         ),
