@@ -115,4 +115,6 @@ write("dhondt2024", "DHondt_et_al_2024_4seg",
 write("gait1018", "gait1018",
       HEAD.format(what="gait1018 (2D)", src="settings_gait1018.m: no distance constraints"),
       None, [], LUMPED_2D, ("soleus", "gastroc"),
-      problem=("# PredSim's default speed of this model (settings_gait1018.m).", "speed = 1.25"))
+      problem=("# PredSim's default speed of this model (settings_gait1018.m); the passive-torque",
+               "# cost counts the limit torques only, as PredSim's.", "speed = 1.25",
+               'passive = { cost = "limit" }'))
