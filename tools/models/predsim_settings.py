@@ -3,7 +3,8 @@
 PredSim's rules (../shared/reference/PREDSIM.md sections 3.4, 3.6, 4, 5, 8), written out
 per model: limit torques of the FORMULATION 6.1 table by coordinate name (plus the mtp
 row), damping 0.1 N m s/rad on every coordinate that is not the floating base, the mtp
-spring and damping of each model, the tendon stiffness scale 0.5 of the calf muscles
+spring and damping of each model, the problem defaults PredSim's settings of each model
+set (toes driven passively, the mesh), the tendon stiffness scale 0.5 of the calf muscles
 (gait1018: names containing soleus or gastroc; DHondt: soleus or _gas), DHondt's passive fibre
 shift 0.9 (soleus, _gas, per_, tib_, _dig_, _hal_, FDB) and metabolic b = 100, metabolic parameters by exact muscle name (gait2392
 values; the 2D model's lumped muscles; 0.5 / 0.25 MPa otherwise) and the distance
@@ -50,7 +51,8 @@ def arr(xs):
     return "[" + ", ".join(num(x) for x in xs) + "]"
 
 
-def write(name, stem, header, mtp, distances, lumped, tendon_half=(), passive_shift=(), smoothing=None):
+def write(name, stem, header, mtp, distances, lumped, tendon_half=(), passive_shift=(), smoothing=None,
+          problem=()):
     osim = (OUT / name / f"{stem}.osim").read_text()
     coords = names(osim, "Coordinate")
     muscles = [m for tag in ("Thelen2003Muscle", "DeGrooteFregly2016Muscle", "Millard2012EquilibriumMuscle")
@@ -58,6 +60,8 @@ def write(name, stem, header, mtp, distances, lumped, tendon_half=(), passive_sh
     passive = json.loads((REF / "joints/passive_moments.json").read_text())
     meta = json.loads((REF / "muscles/metabolic_parameters.json").read_text())["per_muscle_right_names"]
     lines = [header, f'geometry = "{stem}.geometry.json"', ""]
+    if problem:
+        lines += ["[problem]"] + list(problem) + [""]
     limited = set()
     for j in passive["joints"]:
         cs = [c for c in j["applies_to"] if c in coords]
@@ -107,13 +111,20 @@ def write(name, stem, header, mtp, distances, lumped, tendon_half=(), passive_sh
 HEAD = "# Settings of {what}, after PredSim ({src}).\n# Written by tools/models/predsim_settings.py; see docs/settings.md.\n# Contact spheres and actuators come from the .osim file."
 write("falisse2022", "Falisse_et_al_2022",
       HEAD.format(what="Falisse_et_al_2022", src="settings_Falisse_et_al_2022.m: mtp k 25 N m/rad, B 2 N m s/rad"),
-      {"stiffness": 25.0, "damping": 2.0}, DISTANCES_3D, {})
+      {"stiffness": 25.0, "damping": 2.0}, DISTANCES_3D, {},
+      problem=("# PredSim's mtp_type '2022paper': toes driven by their passive torque only;",
+               "# the passive-torque cost counts the limit torques only.",
+               'passive = { toes = "passive", cost = "limit" }'))
 write("dhondt2024", "DHondt_et_al_2024_4seg",
       HEAD.format(what="DHondt_et_al_2024_4seg", src="settings_DHondt_et_al_2024_4seg.m: mtp k 1 N m/rad,\n"
                   "# k_T x 0.5 for the calf muscles, passive fibre shift 0.9 for the shank and foot muscles,\n"
                   "# metabolic b = 100; ligament forces from the geometry file's ligament fits"),
       {"stiffness": 1.0, "damping": 0.1}, DISTANCES_3D, {}, ("soleus", "_gas"),
-      ("soleus", "_gas", "per_", "tib_", "_dig_", "_hal_", "FDB"), 100.0)
+      ("soleus", "_gas", "per_", "tib_", "_dig_", "_hal_", "FDB"), 100.0,
+      problem=("# PredSim's N for this model: 100 mesh intervals per half cycle.", "mesh_intervals = 100"))
 write("gait1018", "gait1018",
       HEAD.format(what="gait1018 (2D)", src="settings_gait1018.m: no distance constraints"),
-      None, [], LUMPED_2D, ("soleus", "gastroc"))
+      None, [], LUMPED_2D, ("soleus", "gastroc"),
+      problem=("# PredSim's default speed of this model (settings_gait1018.m); the passive-torque",
+               "# cost counts the limit torques only, as PredSim's.", "speed = 1.25",
+               'passive = { cost = "limit" }'))

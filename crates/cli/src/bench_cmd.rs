@@ -463,14 +463,13 @@ pub(crate) fn peak_rss_kib() -> Option<u64> {
 }
 
 fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
-    let (config_model, settings) = predict_cmd::config_problem(a.config.as_deref(), a.mesh)?;
+    let (model_path, settings) = predict_cmd::config_problem(a.config.as_deref(), a.model, a.mesh)?;
     let solver = predict_cmd::backend(&a.backend)?;
     let guess = predict_cmd::parse_guess(&a.guess)?;
     let hessian = predict_cmd::parse_hessian(Some(&a.hessian), &a.backend)?;
     let options =
         predict_cmd::prediction_options(None, Some(a.max_iter), hessian, a.time_limit, None)?;
-    let model =
-        crate::model_load::load_model(a.model.or(config_model).as_deref(), None, None, true)?;
+    let model = crate::model_load::load_model(model_path.as_deref(), None, None, true)?;
     let presolve = predict::presolve_for(a.presolve_mesh, &settings)?;
     let (_, solved) = predict::solve_guesses(
         &model,

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 use stride_model::result_dir::{self, Existing, OutputError, ResultKind};
 use stride_ocp::guess::GuessKind;
+use stride_ocp::model_defaults::ModelProblemDefaults;
 use stride_ocp::predict;
 use stride_ocp::settings::{ProblemSettings, RunSettings};
 use stride_solve::solver::{HessianMode, LinearSolver, MuStrategy, Solver, SolverOptions};
@@ -106,7 +107,10 @@ struct StudyFile {
     geometry: Option<PathBuf>,
     output: Option<PathBuf>,
     guesses: Option<Vec<String>>,
+    /// Read for its checks (unknown keys name the line); the settings are built from the
+    /// table as written, over the model's defaults.
     #[serde(default)]
+    #[allow(dead_code)]
     problem: Option<ProblemSettings>,
     #[serde(default)]
     solver: SolverSection,
@@ -247,31 +251,56 @@ pub(crate) fn prediction_options(
     })
 }
 
-/// The study file of `--config`, read with a size bound.
-fn read_study_file(p: &Path) -> anyhow::Result<StudyFile> {
+/// The study file of `--config` (`None`: an empty one), read with a size bound, and its
+/// `[problem]` table as written.
+fn read_study_file(p: Option<&Path>) -> anyhow::Result<(StudyFile, toml::Table)> {
+    let Some(p) = p else {
+        return Ok((StudyFile::default(), toml::Table::new()));
+    };
     let bytes = stride_model::storage::read_limited(p, MAX_STUDY_FILE_BYTES)
         .with_context(|| format!("reading study file {}", p.display()))?;
     let text = String::from_utf8(bytes)
         .map_err(|_| anyhow::anyhow!("study file {}: not UTF-8 text", p.display()))?;
-    toml::from_str(&text).with_context(|| format!("study file {}", p.display()))
+    let study: StudyFile =
+        toml::from_str(&text).with_context(|| format!("study file {}", p.display()))?;
+    let mut raw: toml::Table = toml::from_str(&text)?;
+    let problem = match raw.remove("problem") {
+        Some(toml::Value::Table(t)) => t,
+        _ => toml::Table::new(),
+    };
+    Ok((study, problem))
 }
 
-/// The model and problem settings of a prediction file (`None`: the nominal problem), with
-/// `mesh` intervals, checked.
+/// The problem settings of a prediction: the `[problem]` table of its file over the
+/// defaults of the model (`model`, with the settings file `model_settings` or its own).
+fn layered_problem(
+    problem: &toml::Table,
+    model: Option<&Path>,
+    model_settings: Option<&Path>,
+) -> anyhow::Result<ProblemSettings> {
+    let defaults = ModelProblemDefaults::of_named_model(model, model_settings)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    defaults
+        .settings(problem)
+        .context("the model's [problem] defaults under the prediction file's")
+}
+
+/// The model and problem settings of a prediction file (`None`: the nominal problem) for
+/// `model` (else the file's), with `mesh` intervals, checked.
 pub(crate) fn config_problem(
     config: Option<&Path>,
+    model: Option<PathBuf>,
     mesh: usize,
 ) -> anyhow::Result<(Option<PathBuf>, ProblemSettings)> {
-    let study = match config {
-        Some(p) => read_study_file(p)?,
-        None => StudyFile::default(),
-    };
-    let mut settings = study.problem.unwrap_or_default();
+    let (study, problem) = read_study_file(config)?;
+    let model = model.or(study.model);
+    let mut settings =
+        layered_problem(&problem, model.as_deref(), study.model_settings.as_deref())?;
     settings.mesh_intervals = mesh;
     settings
         .validate()
         .with_context(|| format!("--mesh {mesh}"))?;
-    Ok((study.model, settings))
+    Ok((model, settings))
 }
 
 /// The initial guesses named on the command line or in a study file, each at most once.
@@ -328,11 +357,10 @@ pub(crate) fn output_folder(
 
 /// Run `stride predict`.
 pub fn run(args: PredictArgs) -> anyhow::Result<()> {
-    let study = match &args.config {
-        Some(p) => read_study_file(p)?,
-        None => StudyFile::default(),
-    };
-    let mut settings = study.problem.unwrap_or_default();
+    let (study, problem) = read_study_file(args.config.as_deref())?;
+    let model_path = args.model.or(study.model);
+    let model_settings = args.model_settings.or(study.model_settings);
+    let mut settings = layered_problem(&problem, model_path.as_deref(), model_settings.as_deref())?;
     if let Some(v) = args.speed {
         settings.speed = v;
     }
@@ -369,8 +397,8 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     options.threads = (cores / guesses.len()).max(1);
     let model = crate::model_load::load_model(
-        args.model.or(study.model).as_deref(),
-        args.model_settings.or(study.model_settings).as_deref(),
+        model_path.as_deref(),
+        model_settings.as_deref(),
         args.geometry.or(study.geometry).as_deref(),
         args.quiet,
     )?;
@@ -437,10 +465,14 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
     }
     match (&summary.kept_guess, &summary.outcomes) {
         (Some(k), Some(o)) => println!(
-            "kept {k}: cost of transport {:.3} J/kg/m, stride length {:.3} m, step width {:.3} m, stride frequency {:.3} /s\nresults in {}",
+            "kept {k}: cost of transport {:.3} J/kg/m, stride length {:.3} m, step width {}, stride frequency {:.3} /s\nresults in {}",
             o.cost_of_transport,
             o.stride_length,
-            o.step_width,
+            if o.step_width.is_nan() {
+                "none (2D model)".to_string()
+            } else {
+                format!("{:.3} m", o.step_width)
+            },
             o.stride_frequency,
             out.display()
         ),
@@ -455,6 +487,92 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use stride_ocp::passive_rules::{PassiveCost, ToeDrive};
+
+    /// A fresh folder for this test's files.
+    fn scratch(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("stride-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn problem_keys_layer_defaults_model_file_and_command_line() {
+        let d = scratch("layers");
+        let model = d.join("m.toml");
+        let text = "[problem]\nspeed = 1.25\nmesh_intervals = 20\npassive = { toes = \"passive\", cost = \"limit\" }\n";
+        std::fs::write(&model, text).unwrap();
+        let config = d.join("c.toml");
+        let text = format!(
+            "model_settings = {:?}\n[problem]\nspeed = 1.5\n[problem.passive]\ncost = \"total\"\n",
+            model.display().to_string()
+        );
+        std::fs::write(&config, text).unwrap();
+        // model settings alone over the built-in defaults
+        let s = layered_problem(&toml::Table::new(), None, Some(&model)).unwrap();
+        assert_eq!((s.speed, s.mesh_intervals), (1.25, 20));
+        assert_eq!(
+            (s.passive.toes, s.passive.cost),
+            (ToeDrive::Passive, PassiveCost::Limit)
+        );
+        assert_eq!(s.passive.damping, 0.1);
+        // the prediction file over the model settings, the command line (--mesh) over both
+        let (_, s) = config_problem(Some(&config), None, 30).unwrap();
+        assert_eq!((s.speed, s.mesh_intervals), (1.5, 30));
+        assert_eq!(
+            (s.passive.toes, s.passive.cost),
+            (ToeDrive::Passive, PassiveCost::Total)
+        );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn the_toes_model_alone_gives_the_problem_of_its_nominal_study() {
+        let s = layered_problem(&toml::Table::new(), Some(Path::new("falisse2022")), None).unwrap();
+        let want = ProblemSettings {
+            passive: stride_ocp::passive_rules::PassiveSettings {
+                toes: ToeDrive::Passive,
+                cost: PassiveCost::Limit,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        assert_eq!(s, want);
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let file = root.join("studies/falisse2022_nominal.toml");
+        let study = stride_study::spec::load(&file).unwrap();
+        assert!(study.cases.iter().all(|c| c.settings == s));
+        // a study's [base] over the model's defaults
+        let text = "[study]\nname = \"t\"\noutput = \"out/t\"\nmodel = \"falisse2022\"\n[base.passive]\ncost = \"total\"\n";
+        let study = stride_study::spec::parse(text, Path::new("t.toml")).unwrap();
+        let p = &study.cases[0].settings.passive;
+        assert_eq!((p.toes, p.cost), (ToeDrive::Passive, PassiveCost::Total));
+    }
+
+    #[test]
+    fn unknown_model_problem_keys_name_file_and_line() {
+        let d = scratch("unknown-problem-key");
+        let model = d.join("m.toml");
+        for (text, want) in [
+            (
+                "[problem]\nspeed = 1.2\nspeeed = 1.3\n",
+                ":3: `problem.speeed`: unknown field",
+            ),
+            ("[problem]\nspeed = -1.0\n", ":2: `problem.speed`: "),
+            (
+                "gravity = [0.0, -9.81, 0.0]\n\n[problem.passive]\ntoess = \"passive\"\n",
+                ":3: `problem.passive`: unknown field `toess`",
+            ),
+        ] {
+            std::fs::write(&model, text).unwrap();
+            let e = layered_problem(&toml::Table::new(), None, Some(&model))
+                .unwrap_err()
+                .to_string();
+            assert!(e.starts_with(&format!("{}{want}", model.display())), "{e}");
+        }
+        std::fs::remove_dir_all(&d).unwrap();
+    }
 
     #[test]
     fn hessian_names_map_to_modes() {

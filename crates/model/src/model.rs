@@ -250,20 +250,23 @@ pub struct Muscle {
     /// Factor on the tendon stiffness: the muscle's k_T is the problem's k_T (35) times
     /// this, with the tendon curve shift recomputed (PredSim's `tendon_stiff_scale`; 1
     /// when unset).
-    #[serde(default = "unit_scale")]
+    #[serde(default = "unit_scale", skip_serializing_if = "is_unit")]
     pub tendon_stiffness_scale: f64,
     /// Shift λ of the passive fibre force–length curve, `f_PE` evaluated at
     /// `(l̃_M − λ)` instead of `(l̃_M − 1)` (PredSim's `muscle_pass_stiff_shift`; 1 when
     /// unset).
-    #[serde(default = "unit_scale")]
+    #[serde(default = "unit_scale", skip_serializing_if = "is_unit")]
     pub passive_fibre_shift: f64,
     /// Scale κ of the passive fibre curve's exponent, `exp(4κ(l̃_M − λ)/0.6)` (PredSim's
     /// `muscle_pass_stiff_scale`; 1 when unset).
-    #[serde(default = "unit_scale")]
+    #[serde(default = "unit_scale", skip_serializing_if = "is_unit")]
     pub passive_fibre_scale: f64,
     /// Steepness b of the smooth conditionals `½(1 + tanh(b x))` in the Bhargava (2004)
     /// metabolic rate (10 in the paper; PredSim's `b`).
-    #[serde(default = "default_metabolic_smoothing")]
+    #[serde(
+        default = "default_metabolic_smoothing",
+        skip_serializing_if = "is_default_metabolic_smoothing"
+    )]
     pub metabolic_smoothing: f64,
 }
 
@@ -274,6 +277,14 @@ fn unit_scale() -> f64 {
 /// The paper's steepness of the metabolic smooth conditionals (10).
 pub fn default_metabolic_smoothing() -> f64 {
     10.0
+}
+
+fn is_unit(x: &f64) -> bool {
+    *x == 1.0
+}
+
+fn is_default_metabolic_smoothing(x: &f64) -> bool {
+    *x == default_metabolic_smoothing()
 }
 
 /// Polynomial approximation of a muscle–tendon length:

@@ -59,14 +59,18 @@ pub struct CycleTables {
     /// What was simulated, for figure titles: speed and mesh.
     pub caption: String,
     /// Torso rotation about the ground forward axis [deg] (its range is the trunk sway);
-    /// `None` for a model without a `torso` body.
+    /// `None` for a model without a `torso` body or a planar model.
     pub trunk_sway: Option<Vec<f64>>,
+    /// A planar (2D) model: panels of coordinates it does not have and of the lateral
+    /// force are left out.
+    pub planar: bool,
 }
 
 impl CycleTables {
     /// Tables of the reconstructed gait cycle `cycle` of `problem`.
     pub fn new(problem: &GaitProblem, cycle: &Trajectory) -> Self {
         let g = &problem.gait;
+        let planar = g.is_planar(&problem.model);
         let to_user = |i: usize, v: f64| {
             if g.coordinates[i].motion_type == MotionType::Rotational {
                 v.to_degrees()
@@ -117,11 +121,11 @@ impl CycleTables {
                 .collect(),
             grf_bw,
             caption: caption(&problem.settings),
-            trunk_sway: problem
-                .trunk_frontal_angles(&cycle.q)
-                .ok()
+            trunk_sway: (!planar)
+                .then(|| problem.trunk_frontal_angles(&cycle.q).ok().flatten())
                 .flatten()
                 .map(|a| a.iter().map(|v| v.to_degrees()).collect()),
+            planar,
         }
     }
 
@@ -468,8 +472,16 @@ fn base_panel(title: &str, unit: &str) -> Panel {
 fn spec_panels(t: &CycleTables, reference: &WalkingReference, specs: &[PanelSpec]) -> Vec<Panel> {
     let x = t.percent_closed();
     let per_kg = 1.0 / t.body_mass;
+    let exists = |s: &&PanelSpec| {
+        !t.planar
+            || match s.quantity {
+                "grf" => s.channel != "lateral",
+                _ => t.coordinate_index(s.channel).is_some(),
+            }
+    };
     specs
         .iter()
+        .filter(exists)
         .map(|s| {
             let (rows, col, factor) = match s.quantity {
                 "grf" => {

@@ -259,6 +259,12 @@ impl GaitModel {
     pub fn actuator_driven(&self) -> Vec<usize> {
         self.indices(|a| matches!(a, Actuation::Actuator(_)))
     }
+    /// Whether the model moves in the sagittal plane only: its root has no lateral (ground
+    /// z) translation (a 2D model such as gait1018: no trunk sway, hip abduction or rotation,
+    /// lateral force or step width).
+    pub fn is_planar(&self, model: &Model) -> bool {
+        translation_along(model, &self.coordinates, 2).is_none()
+    }
     /// Problem index of a coordinate by name.
     pub fn index_of(&self, name: &str) -> Option<usize> {
         self.coordinates.iter().position(|c| c.name == name)
@@ -268,6 +274,26 @@ impl GaitModel {
             .filter(|&i| f(self.coordinates[i].actuation))
             .collect()
     }
+}
+
+/// Whether model coordinate `c` moves an arm: its joint, or a joint between it and the
+/// ground, is named `acromial…` (PredSim's arm detection, PREDSIM.md §3.2) or
+/// `shoulder…` (gait2392 and the built-in model). An actuated coordinate that is not an
+/// arm (gait1018's lumbar) counts in the acceleration cost.
+pub fn is_arm_coordinate(model: &Model, c: CoordId) -> bool {
+    let mut j = model.coordinates[c].joint;
+    for _ in 0..model.joints.len() {
+        let name = &model.joints[j].name;
+        if name.starts_with("acromial") || name.starts_with("shoulder") {
+            return true;
+        }
+        let parent = model.joints[j].parent;
+        match model.joints.iter().position(|x| x.child == parent) {
+            Some(p) => j = p,
+            None => return false,
+        }
+    }
+    false
 }
 
 /// Sign of an unsided coordinate under the sagittal-plane mirror: rotations about an axis

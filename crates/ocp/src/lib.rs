@@ -26,6 +26,7 @@ mod jacobian_fill;
 pub mod layout;
 pub mod ligaments;
 pub mod measures;
+pub mod model_defaults;
 pub mod node;
 pub mod outputs;
 pub mod passive_rules;

@@ -40,7 +40,8 @@ pub struct LegMeasures {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ConditionMeasures {
     /// Range over the cycle of the torso's rotation about the ground forward axis (first
-    /// angle of its body-fixed X–Y–Z orientation) [deg]; `None` without a `torso` body.
+    /// angle of its body-fixed X–Y–Z orientation) [deg]; `None` without a `torso` body or
+    /// for a planar model.
     pub trunk_sway: Option<f64>,
     /// Right leg.
     pub right: LegMeasures,
@@ -169,6 +170,9 @@ impl GaitProblem {
 
     /// Trunk sway [deg] over a cycle (see [`ConditionMeasures::trunk_sway`]).
     fn trunk_sway(&self, cycle: &Trajectory) -> Result<Option<f64>, ProblemError> {
+        if self.gait.is_planar(&self.model) {
+            return Ok(None);
+        }
         let Some(angles) = self.trunk_frontal_angles(&cycle.q)? else {
             return Ok(None);
         };

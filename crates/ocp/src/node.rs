@@ -35,6 +35,9 @@ pub struct NodeModel {
     prosthetic: Vec<Option<f64>>,
     /// Problem indices of the actuator-driven coordinates.
     actuator_driven: Vec<usize>,
+    /// Per actuator-driven coordinate: whether it moves an arm (its acceleration is a slack
+    /// control) rather than the torso (its acceleration is in the acceleration cost).
+    actuator_is_arm: Vec<bool>,
     /// Per actuator-driven coordinate: its passive torque element when that has a limit
     /// torque (else the arm damping applies).
     actuator_passive: Vec<Option<usize>>,
@@ -251,6 +254,11 @@ impl NodeModel {
                 _ => 1.0,
             })
             .collect();
+        let actuator_is_arm = g
+            .actuator_driven()
+            .into_iter()
+            .map(|i| crate::gait::is_arm_coordinate(&model, g.coordinates[i].model_index))
+            .collect();
         let springs = g
             .coordinates
             .iter()
@@ -273,6 +281,7 @@ impl NodeModel {
             muscle_driven,
             prosthetic,
             actuator_driven: g.actuator_driven(),
+            actuator_is_arm,
             torque_terms,
             removed,
             muscle_model,
@@ -505,6 +514,7 @@ impl NodeModel {
         }
         let mut sum_e_arm2 = T::zero();
         let mut sum_arm_acc2 = T::zero();
+        let mut sum_torso_acc2 = T::zero();
         for (k, &i) in self.actuator_driven.iter().enumerate() {
             let c = self.coord_model[i];
             let (tp, limit) = match self.actuator_passive[k] {
@@ -535,7 +545,11 @@ impl NodeModel {
             y[out] = tau[c] / self.s_arm - (torque + tp / self.s_arm);
             out += 1;
             sum_e_arm2 += x[io.e_arm() + k].sq();
-            sum_arm_acc2 += x[io.qdd() + i].sq();
+            if self.actuator_is_arm[k] {
+                sum_arm_acc2 += x[io.qdd() + i].sq();
+            } else {
+                sum_torso_acc2 += x[io.qdd() + i].sq();
+            }
         }
         // Distances between body origins in the ground x–z plane.
         for (k, &(b0, b1, _, _)) in self.distances.iter().enumerate() {
@@ -559,8 +573,10 @@ impl NodeModel {
             return;
         }
         // Cost integrand (means over the elements of each norm; accelerations scaled).
-        let mut sum_acc2 = T::zero();
-        let mut n_acc = 0;
+        // (torso accelerations of actuated coordinates that are not arms count here)
+        let mut sum_acc2 = sum_torso_acc2;
+        let n_arms = self.actuator_is_arm.iter().filter(|&&a| a).count();
+        let mut n_acc = self.actuator_driven.len() - n_arms;
         for &i in self
             .root
             .iter()
@@ -585,7 +601,8 @@ impl NodeModel {
             + sum_acc2 * (w.acceleration / n_acc.max(1) as f64)
             + sum_tp2 * (w.passive_torque / n_tp)
             + sum_e_arm2 * (w.arm_excitation / na)
-            + (sum_da2 / nmf + sum_df2 / nmf + sum_arm_acc2 / na) * w.slack_controls;
+            + (sum_da2 / nmf + sum_df2 / nmf + sum_arm_acc2 / n_arms.max(1) as f64)
+                * w.slack_controls;
         if w.metabolic != 0.0 {
             l += sum_e * (w.metabolic / n_kept / self.body_mass);
         }

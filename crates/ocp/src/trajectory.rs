@@ -413,7 +413,7 @@ pub struct Outcomes {
     pub cost_of_transport_cost_model: f64,
     /// Stride length [m].
     pub stride_length: f64,
-    /// Step width [m].
+    /// Step width [m]; NaN (written as null) for a planar model, which has none.
     pub step_width: f64,
     /// Stride frequency [strides s⁻¹].
     pub stride_frequency: f64,
@@ -505,12 +505,15 @@ impl GaitProblem {
             0.5 * (dist(m.calcaneus[n][0], m.calcaneus[0][0])
                 + dist(m.calcaneus[n][1], m.calcaneus[0][1]))
         };
-        let step_width = m
-            .calcaneus
-            .iter()
-            .map(|c| (c[0][2] - c[1][2]).abs())
-            .sum::<f64>()
-            / m.calcaneus.len() as f64;
+        let step_width = if self.gait.is_planar(&self.model) {
+            f64::NAN
+        } else {
+            m.calcaneus
+                .iter()
+                .map(|c| (c[0][2] - c[1][2]).abs())
+                .sum::<f64>()
+                / m.calcaneus.len() as f64
+        };
         let speed = m.distance / m.duration;
         let contact_r: Vec<bool> = cycle
             .grf_right

@@ -105,6 +105,24 @@ fn toes_get_model_bounds_and_predsims_passive_torque() {
 }
 
 #[test]
+fn the_arms_of_the_3d_models_are_arms_and_they_are_not_planar() {
+    for name in ["subject1", "falisse2022"] {
+        let m = shipped(name);
+        let p = problem(&m, &toes_settings(4));
+        let g = &p.gait;
+        let arms: Vec<&str> = g
+            .actuator_driven()
+            .into_iter()
+            .filter(|&i| stride_ocp::gait::is_arm_coordinate(&m, g.coordinates[i].model_index))
+            .map(|i| g.coordinates[i].name.as_str())
+            .collect();
+        assert_eq!(arms.len(), 8, "{name}: {arms:?}");
+        assert!(arms.contains(&"elbow_flex_l") && arms.contains(&"arm_rot_r"));
+        assert!(!g.is_planar(&m), "{name}");
+    }
+}
+
+#[test]
 fn passive_toes_carry_no_muscle_moment() {
     let m = shipped("falisse2022");
     for (toes, expect_muscle) in [(ToeDrive::Passive, false), (ToeDrive::Muscles, true)] {
@@ -189,6 +207,12 @@ fn planar_model_has_no_lateral_coordinates_and_mirrors_its_legs() {
     ));
     let c = g.coordinates[l].passive.unwrap();
     assert!(p.model.passive_torques[c].has_limit());
+    // it is torso, not arm: its acceleration is in the acceleration cost (PREDSIM.md §8)
+    assert!(!stride_ocp::gait::is_arm_coordinate(
+        &m,
+        g.coordinates[l].model_index
+    ));
+    assert!(g.is_planar(&m));
     // the half-cycle mirror keeps every coordinate's sign and swaps legs
     let q: Vec<f64> = (0..g.nq()).map(|i| i as f64).collect();
     let mq = p.mirror_coordinates(&q);

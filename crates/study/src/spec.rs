@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use stride_ocp::model_defaults::{merge_tables as merge, ModelProblemDefaults};
 use stride_ocp::settings::{ProblemSettings, RunSettings};
 use toml::Value;
 
@@ -153,7 +154,8 @@ pub struct Case {
 pub struct Study {
     /// The `[study]` table.
     pub header: StudyHeader,
-    /// Settings of `[base]` alone (a case with exactly these is the study's reference).
+    /// Settings of `[base]` over the model's problem defaults (a case with exactly these is
+    /// the study's reference).
     pub base: ProblemSettings,
     /// Every case, dependencies before dependants.
     pub cases: Vec<Case>,
@@ -246,18 +248,6 @@ fn sanitize(s: &str) -> String {
         .collect()
 }
 
-/// Deep-merge `over` into `base` (tables merge key by key, anything else replaces).
-fn merge(base: &mut toml::Table, over: &toml::Table) {
-    for (k, v) in over {
-        match (base.get_mut(k), v) {
-            (Some(Value::Table(b)), Value::Table(o)) => merge(b, o),
-            _ => {
-                base.insert(k.clone(), v.clone());
-            }
-        }
-    }
-}
-
 /// Set a dotted key (`weights.metabolic`) in a table.
 fn set_dotted(t: &mut toml::Table, key: &str, v: Value) {
     let mut parts = key.split('.').peekable();
@@ -299,8 +289,15 @@ pub fn parse(text: &str, path: &Path) -> Result<Study, SpecError> {
         file: file.clone(),
         reason: format!("[study]: {e}"),
     })?;
-    let base = raw.base.unwrap_or_default();
-    // The base alone must be valid settings (typos are reported against [base]).
+    // The model's problem defaults lie under [base].
+    let defaults = ModelProblemDefaults::of_named_model(h.model.as_deref(), None).map_err(|e| {
+        SpecError::Parse {
+            file: file.clone(),
+            reason: format!("model: {e}"),
+        }
+    })?;
+    let base = defaults.under(&raw.base.unwrap_or_default());
+    // The base must be valid settings (typos are reported against [base]).
     let base_settings: ProblemSettings =
         Value::Table(base.clone())
             .try_into()

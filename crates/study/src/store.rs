@@ -103,6 +103,11 @@ impl CaseStatus {
     }
 }
 
+/// A number written as JSON `null` (NaN) read back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
 /// Gait outcome measures of a converged case (FORMULATION 11.3).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
@@ -112,7 +117,8 @@ pub struct Metrics {
     pub stride_length: f64,
     /// Stride frequency [strides s⁻¹].
     pub stride_frequency: f64,
-    /// Step width [m].
+    /// Step width [m]; NaN (written as null) for a planar model.
+    #[serde(deserialize_with = "null_as_nan")]
     pub step_width: f64,
     /// Fraction of the cycle in double support.
     pub double_support_fraction: f64,

@@ -2,7 +2,8 @@
 //! does not carry, or what the user wants to change, for a gait prediction — contact
 //! spheres, passive joint torques, coordinate actuators, per-muscle metabolic parameters,
 //! the fitted muscle-geometry file, distance constraints between bodies, springs on
-//! coordinates, per-muscle parameter changes and gravity. Every field has a default; unknown keys are errors naming the
+//! coordinates, per-muscle parameter changes and gravity — and the model's defaults of
+//! the gait problem (`[problem]`). Every field has a default; unknown keys are errors naming the
 //! file, line and key. [`ModelSettings::apply`] puts the settings into an imported
 //! [`Model`].
 
@@ -15,6 +16,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 mod describe;
+mod locate;
 pub use describe::DescribeError;
 
 /// Everything a model settings file can set (all optional; the defaults leave an imported
@@ -47,6 +49,14 @@ pub struct ModelSettings {
     /// entries override earlier ones for the keys they set.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub muscle_parameters: Vec<MuscleParameters>,
+    /// The model's defaults of the gait problem: keys of a prediction file's `[problem]`
+    /// (checked by the problem crate, which owns them); a prediction file, study file or
+    /// command-line option overrides each.
+    #[serde(skip_serializing_if = "toml::Table::is_empty")]
+    pub problem: toml::Table,
+    /// Line of each top-level `[problem]` key in the settings file, for errors (not a key).
+    #[serde(skip)]
+    pub problem_lines: BTreeMap<String, usize>,
 }
 
 /// Contact spheres between the feet and the ground half-space.
@@ -338,6 +348,9 @@ impl ModelSettings {
         for (entry, span) in s.muscle_parameters.iter_mut().zip(spans.muscle_parameters) {
             entry.line = span.matches.map(|m| line_of(m.span().start));
         }
+        s.problem_lines = (spans.problem.into_iter())
+            .map(|(k, v)| (k, line_of(v.span().start)))
+            .collect();
         Ok(s)
     }
 
@@ -394,11 +407,14 @@ impl ModelSettings {
     }
 }
 
-/// Where each `[[muscle_parameters]]` entry's `match` is in the file.
+/// Where each `[[muscle_parameters]]` entry's `match` and each `[problem]` key is in the
+/// file.
 #[derive(Deserialize)]
 struct MatchSpans {
     #[serde(default)]
     muscle_parameters: Vec<MatchSpan>,
+    #[serde(default)]
+    problem: BTreeMap<String, toml::Spanned<toml::Value>>,
 }
 
 #[derive(Deserialize)]

@@ -74,6 +74,7 @@ fn tables_from_reference(r: &WalkingReference) -> CycleTables {
             })
             .collect(),
         trunk_sway: Some(r.quantities["trunk_sway"]["trunk_sway"].mean.clone()),
+        planar: false,
     }
 }
 
@@ -218,6 +219,7 @@ fn figures_without_reference_show_the_prediction_only() {
         grf_labels: Vec::new(),
         grf_bw: vec![vec![0.0; 6]; 3],
         trunk_sway: None,
+        planar: false,
     };
     let figs = gait_figures(&t, &r);
     let knee = &figs[0].figure.panels[6];
@@ -231,6 +233,51 @@ fn figures_without_reference_show_the_prediction_only() {
     assert!(figs[0].figure.panels[3].series.is_empty());
     assert_eq!(figs[2].figure.panels.len(), 1);
     render_files(&figs).unwrap();
+}
+
+#[test]
+fn planar_figures_leave_out_the_channels_the_model_lacks() {
+    let r = WalkingReference {
+        quantities: Default::default(),
+        step_width: [0.0; 2],
+        stride_length: [0.0; 2],
+    };
+    let knee_only = |planar: bool| CycleTables {
+        time: vec![0.0, 0.1, 0.2],
+        body_mass: 70.0,
+        coordinates: vec!["knee_angle_r".into()],
+        angles: vec![vec![-10.0], vec![-40.0], vec![-5.0]],
+        torques: vec![vec![7.0], vec![-14.0], vec![0.0]],
+        powers: vec![vec![0.0], vec![1.0], vec![2.0]],
+        grf_bw: vec![vec![0.0; 6]; 3],
+        planar,
+        ..Default::default()
+    };
+    let titles = |t: &CycleTables, i: usize| -> Vec<String> {
+        gait_figures(t, &r)[i]
+            .figure
+            .panels
+            .iter()
+            .map(|p| p.title.clone())
+            .collect()
+    };
+    assert!(titles(&knee_only(false), 0).contains(&"Hip adduction".to_string()));
+    assert_eq!(titles(&knee_only(true), 0), ["Knee flexion"]);
+    let kinetics = titles(&knee_only(true), 1);
+    assert!(
+        kinetics.iter().all(|t| !t.contains("adduction")),
+        "{kinetics:?}"
+    );
+    assert!(
+        kinetics.iter().any(|t| t.contains("Knee torque")),
+        "{kinetics:?}"
+    );
+    assert!(
+        kinetics
+            .iter()
+            .all(|t| !t.to_lowercase().contains("lateral")),
+        "{kinetics:?}"
+    );
 }
 
 /// `write_results` on the data-informed walking guess (no solve) writes the figures
