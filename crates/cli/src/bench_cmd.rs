@@ -9,8 +9,8 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::Instant;
-use stride_ocp::predict;
 use stride_ocp::settings::ProblemSettings;
+use stride_predict::predict;
 use stride_solve::bench::{self as solver_bench, SolveCase};
 
 /// The benchmarks of `stride bench`.
@@ -277,8 +277,8 @@ fn derivatives(a: DerivativesArgs) -> anyhow::Result<()> {
     };
     let threads: Vec<usize> = if all == 1 { vec![1] } else { vec![1, all] };
     let model = stride_model::default_model::default_model();
-    let b = stride_ocp::bench::derivatives(&model, &settings, a.reps, &threads)?;
-    print!("{}", stride_ocp::bench::derivatives_table(&b));
+    let b = crate::bench_nlp::derivatives(&model, &settings, a.reps, &threads)?;
+    print!("{}", crate::bench_nlp::derivatives_table(&b));
     Ok(())
 }
 
@@ -288,8 +288,8 @@ fn kkt(a: KktArgs) -> anyhow::Result<()> {
         bail!("--reps 0: at least one repetition is needed");
     }
     let model = stride_model::default_model::default_model();
-    let b = stride_ocp::bench::kkt(&model, &settings, a.reps)?;
-    print!("{}", stride_ocp::bench::kkt_table(&b));
+    let b = crate::bench_nlp::kkt(&model, &settings, a.reps)?;
+    print!("{}", crate::bench_nlp::kkt_table(&b));
     Ok(())
 }
 

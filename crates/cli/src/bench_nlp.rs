@@ -6,14 +6,15 @@
 //! The collocation points are evaluated in parallel on the rayon pool the call runs in, so
 //! the thread count is set by running the evaluations inside a pool of that size.
 
-use crate::guess::GuessKind;
-use crate::predict::{self, PredictError};
-use crate::settings::ProblemSettings;
-use crate::tape_node::TapeNode;
-use crate::transcription::Transcription;
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 use stride_model::Model;
+use stride_ocp::guess::GuessKind;
+use stride_ocp::settings::ProblemSettings;
+use stride_ocp::tape_node::TapeNode;
+use stride_ocp::transcription::Transcription;
+use stride_predict::error::PredictError;
+use stride_predict::predict;
 use stride_solve::nlp::{EvalError, Nlp};
 
 /// The per-call wall-clock time the Jacobian evaluation should reach (issue goal, 10 ms).

@@ -2,6 +2,7 @@
 
 mod bench_cmd;
 mod bench_geometry;
+mod bench_nlp;
 mod build_default;
 mod data_cmd;
 mod fit_cmd;

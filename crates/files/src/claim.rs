@@ -10,7 +10,7 @@
 //! [`STALE_AFTER`]. A clean release empties the file.
 
 use crate::lock::{FileLock, LockError, LockMode};
-use crate::result_dir::{process_alive, this_host};
+use crate::process::{process_alive, this_host};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::sync::Arc;

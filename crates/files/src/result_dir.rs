@@ -12,6 +12,8 @@
 //! of two machines writing one shared folder (cluster nodes) apart, even when their
 //! process ids are equal.
 
+use crate::atomic::write_atomic;
+use crate::process::{owner_tag, process_alive, this_host};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -129,7 +131,7 @@ pub fn write_marker(dir: &Path, kind: ResultKind) -> std::io::Result<()> {
         version: env!("CARGO_PKG_VERSION").to_string(),
     };
     let json = serde_json::to_string(&m).map_err(std::io::Error::other)?;
-    crate::storage::write_atomic(&dir.join(MARKER), format!("{json}\n").as_bytes())
+    write_atomic(&dir.join(MARKER), format!("{json}\n").as_bytes())
 }
 
 /// Whether `out` names the current folder, one of its parents, or a root.
@@ -220,36 +222,6 @@ pub fn check_writable(out: &Path) -> Result<(), OutputError> {
     Ok(())
 }
 
-/// The short name of this machine (up to the first dot), reduced to letters, digits and
-/// `-`: it tells apart the temporary files of processes on different cluster nodes.
-pub fn this_host() -> &'static str {
-    static HOST: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    HOST.get_or_init(|| {
-        let mut buf = [0u8; 256];
-        // SAFETY: gethostname writes at most buf.len() bytes into the buffer it is given.
-        let ok = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) } == 0;
-        let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
-        let name = String::from_utf8_lossy(&buf[..end]);
-        let short: String = name
-            .split('.')
-            .next()
-            .unwrap_or("")
-            .chars()
-            .filter(|c| c.is_ascii_alphanumeric() || *c == '-')
-            .collect();
-        if ok && !short.is_empty() {
-            short
-        } else {
-            "host".into()
-        }
-    })
-}
-
-/// This process as named in temporary files: `<host>-<pid>`.
-pub fn owner_tag() -> String {
-    format!("{}-{}", this_host(), std::process::id())
-}
-
 /// Hidden sibling of `out` named after it, a tag and this process:
 /// `.NAME.TAG-<host>-<pid>`.
 fn staging_path(out: &Path, tag: &str) -> PathBuf {
@@ -271,6 +243,31 @@ pub fn stage(out: &Path, tag: &str, kind: ResultKind) -> std::io::Result<PathBuf
         return Err(e);
     }
     Ok(tmp)
+}
+
+/// Write a result of `kind` to `out` whole: `write` fills a fresh staging folder beside `out`
+/// ([`stage`], tag e.g. `partial`), which then replaces `out` ([`commit`]); when `write`
+/// fails the staging folder is removed and `out` stays as it was. `io` turns a failure to
+/// stage or commit (an I/O error at `out`) into the caller's error. This is the one path by
+/// which a result folder is written.
+pub fn write_staged<T, E>(
+    out: &Path,
+    tag: &str,
+    kind: ResultKind,
+    io: impl Fn(std::io::Error) -> E,
+    write: impl FnOnce(&Path) -> Result<T, E>,
+) -> Result<T, E> {
+    let tmp = stage(out, tag, kind).map_err(&io)?;
+    match write(&tmp) {
+        Ok(v) => {
+            commit(&tmp, out).map_err(io)?;
+            Ok(v)
+        }
+        Err(e) => {
+            let _ = std::fs::remove_dir_all(&tmp);
+            Err(e)
+        }
+    }
 }
 
 /// Put the complete staging folder `tmp` in place of `out` (which is free or a stride
@@ -320,7 +317,7 @@ struct Staging<'a> {
 }
 
 /// Parse a staging name `.NAME.TAG-<host>-<pid>` (or `.NAME.TAG-<pid>`, or a temporary
-/// file `.NAME.tmp-<host>-<pid>` of [`crate::storage::write_atomic`]) with TAG one of
+/// file `.NAME.tmp-<host>-<pid>` of [`crate::atomic::write_atomic`]) with TAG one of
 /// stride's.
 fn staging_of(name: &str) -> Option<Staging<'_>> {
     let rest = name.strip_prefix('.')?;
@@ -341,16 +338,6 @@ fn staging_of(name: &str) -> Option<Staging<'_>> {
         }
     }
     None
-}
-
-/// Whether process `pid` is running (on this machine).
-pub fn process_alive(pid: u32) -> bool {
-    let Ok(pid) = libc::pid_t::try_from(pid) else {
-        return false;
-    };
-    // SAFETY: kill with signal 0 only checks whether the process exists.
-    let r = unsafe { libc::kill(pid, 0) };
-    r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
 }
 
 /// Remove the staging folders and temporary files in `dir` left by stride processes of this

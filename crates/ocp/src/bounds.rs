@@ -8,7 +8,8 @@
 
 use crate::experimental::Kinematics;
 use crate::gait::{side_of, GaitModel};
-use crate::settings::ProblemSettings;
+use crate::settings::{CycleKind, ProblemSettings};
+use stride_model::storage::Storage;
 
 /// Lower and upper bound of one quantity (physical units).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -159,5 +160,14 @@ impl CoordinateBounds {
         if running {
             self.v[tx].hi = 4.0;
         }
+    }
+}
+
+/// Experimental kinematics that define the bounds of a problem with `settings`: the
+/// walking half cycle, or the full cycle for a full-cycle problem.
+pub fn bounds_data(settings: &ProblemSettings) -> Storage {
+    match settings.cycle {
+        CycleKind::HalfSymmetric => crate::data::walking_half_cycle(),
+        CycleKind::FullPeriodic => crate::data::walking_full_cycle(),
     }
 }

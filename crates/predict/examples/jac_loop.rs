@@ -1,6 +1,6 @@
 //! Development driver: time the gait NLP's constraint Jacobian (50 intervals, data-informed
 //! walking guess, node cache cleared before every call) and print the median.
-//! `cargo run --release -p stride-ocp --example jac_loop -- [reps] [threads] [hessian]`;
+//! `cargo run --release -p stride-predict --example jac_loop -- [reps] [threads] [hessian]`;
 //! with `hessian` the Lagrangian Hessian (multipliers 1, cold cache) is timed instead. With
 //! `JAC_OUT=<file>` the values are also written as little-endian `f64` (to compare builds
 //! bit for bit).
@@ -17,7 +17,8 @@ fn main() {
         ..Default::default()
     };
     let nlp =
-        stride_ocp::predict::transcribe(&model, &settings, GuessKind::DataInformedWalking).unwrap();
+        stride_predict::predict::transcribe(&model, &settings, GuessKind::DataInformedWalking)
+            .unwrap();
     let mut x = vec![0.0; nlp.n()];
     nlp.initial_point(&mut x);
     let hessian = std::env::args().nth(3).as_deref() == Some("hessian");

@@ -32,7 +32,7 @@ fn main() {
         ..Default::default()
     };
     let solver = stride_solve::ipm::InteriorPoint::new();
-    let (coarse, solved) = stride_ocp::predict::solve_guesses(
+    let (coarse, solved) = stride_predict::predict::solve_guesses(
         &model,
         &settings(nc),
         &[guess],
@@ -45,7 +45,7 @@ fn main() {
     let fine = GaitProblem::new(
         &model,
         &settings(nf),
-        &stride_ocp::predict::bounds_data(&settings(nf)),
+        &stride_ocp::bounds::bounds_data(&settings(nf)),
     )
     .unwrap();
     let x = fine

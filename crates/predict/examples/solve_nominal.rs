@@ -1,5 +1,5 @@
 //! Development driver: solve the nominal problem with a given mesh and guess.
-//! `cargo run --release -p stride-ocp --example solve_nominal -- <N> <qr|di> [exact|lbfgs] [ipm|ipopt|ripopt]`
+//! `cargo run --release -p stride-predict --example solve_nominal -- <N> <qr|di> [exact|lbfgs] [ipm|ipopt|ripopt]`
 //! Environment: `STRIDE_PRINT` (print level, default 2), `STRIDE_MAX_ITER` (default 3000),
 //! `STRIDE_MU=monotone` (monotone instead of adaptive barrier update) or `STRIDE_MU=pd`
 //! (adaptive with the kkt-error globalisation), `filter`, `scaled` (the other
@@ -47,7 +47,7 @@ fn main() {
         ..Default::default()
     };
     let t0 = std::time::Instant::now();
-    let tr = stride_ocp::predict::transcribe(&model, &settings, guess).unwrap();
+    let tr = stride_predict::predict::transcribe(&model, &settings, guess).unwrap();
     println!("problem and tape in {:?}", t0.elapsed());
     let options = SolverOptions {
         tol: 1e-4,

@@ -13,10 +13,10 @@
 //! by one factor per muscle so that the mean's peak equals the peak predicted activation
 //! (the paper scales each trial to that peak; only the mean and SD over trials are shipped).
 
-use crate::data::WalkingReference;
-use crate::problem::{GaitProblem, GRAVITY};
-use crate::trajectory::Trajectory;
 use stride_model::MotionType;
+use stride_ocp::data::WalkingReference;
+use stride_ocp::problem::{GaitProblem, GRAVITY};
+use stride_ocp::trajectory::Trajectory;
 use stride_plot::{Band, Color, Figure, LegendEntry, Panel, PlotError, Series};
 
 /// Body mass of the experimental subject [kg] (subject1 of Falisse et al. 2019): divides the
@@ -159,16 +159,16 @@ impl CycleTables {
 }
 
 /// Speed and mesh of a prediction as figure titles state them.
-fn caption(s: &crate::settings::ProblemSettings) -> String {
+fn caption(s: &stride_ocp::settings::ProblemSettings) -> String {
     format!("{:.2} m/s, {}", s.speed, mesh_caption(s))
 }
 
 /// The mesh of a prediction as figure captions state it (`50 mesh intervals per half
 /// cycle`).
-pub fn mesh_caption(s: &crate::settings::ProblemSettings) -> String {
+pub fn mesh_caption(s: &stride_ocp::settings::ProblemSettings) -> String {
     let per = match s.cycle {
-        crate::settings::CycleKind::HalfSymmetric => "per half cycle",
-        crate::settings::CycleKind::FullPeriodic => "per cycle",
+        stride_ocp::settings::CycleKind::HalfSymmetric => "per half cycle",
+        stride_ocp::settings::CycleKind::FullPeriodic => "per cycle",
     };
     format!("{} mesh intervals {per}", s.mesh_intervals)
 }
@@ -633,10 +633,12 @@ fn rotated(rows: &[Vec<f64>], start: usize) -> Vec<Vec<f64>> {
 pub fn prosthesis_figure(t: &CycleTables, reference: &WalkingReference) -> Option<NamedFigure> {
     let x = t.percent_closed();
     let per_kg = 1.0 / t.body_mass;
-    let threshold = 100.0 * crate::trajectory::CONTACT_THRESHOLD / (t.body_mass * GRAVITY);
+    let threshold = 100.0 * stride_ocp::trajectory::CONTACT_THRESHOLD / (t.body_mass * GRAVITY);
     let strike = |grf_col: usize| {
         let contact: Vec<bool> = t.grf_bw.iter().map(|r| r[grf_col] > threshold).collect();
-        crate::measures::stance_phase(&contact).first().copied()
+        stride_ocp::measures::stance_phase(&contact)
+            .first()
+            .copied()
     };
     let ankle = |side: &str| {
         t.coordinates

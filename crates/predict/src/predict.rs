@@ -1,59 +1,24 @@
-//! `predict`: build, solve from several initial guesses, keep the lowest-cost converged
-//! solution, post-process and write the results atomically to an output folder.
+//! `predict`: build the problem, solve it from several initial guesses (each first on a
+//! coarse mesh, or from a neighbouring optimum: continuation) and keep the lowest-cost
+//! converged solve. The result folder is written by [`crate::results`].
 
-use crate::data;
-use crate::experimental::Kinematics;
-use crate::guess::{GuessKind, InitialGuess};
-use crate::node::NodeModel;
-use crate::problem::{GaitProblem, ProblemError};
-use crate::settings::{CycleKind, ProblemSettings};
-use crate::solution::{write_solution, SolutionFile};
-use crate::tape_node::TapeNode;
-use crate::trajectory::{Outcomes, Trajectory};
-use crate::transcription::Transcription;
+use crate::error::PredictError;
 use serde::Serialize;
-use std::fmt::Write as _;
-use std::path::Path;
 use std::sync::Arc;
-use stride_model::result_dir::{self, ResultKind};
-use stride_model::storage::{write_atomic, Storage};
 use stride_model::Model;
+use stride_ocp::bounds::bounds_data;
+use stride_ocp::data;
+use stride_ocp::experimental::Kinematics;
+use stride_ocp::guess::{GuessKind, InitialGuess};
+use stride_ocp::node::NodeModel;
+use stride_ocp::problem::{GaitProblem, ProblemError};
+use stride_ocp::settings::{CycleKind, ProblemSettings};
+use stride_ocp::tape_node::TapeNode;
+use stride_ocp::threads::with_threads;
+use stride_ocp::transcription::Transcription;
 use stride_solve::solver::{
     ControlFlow, HessianMode, IterationRecord, SolveResult, Solver, SolverOptions,
 };
-
-/// Why a prediction failed.
-#[derive(Debug, thiserror::Error)]
-pub enum PredictError {
-    /// The problem could not be built.
-    #[error(transparent)]
-    Problem(#[from] ProblemError),
-    /// A guess could not be built.
-    #[error(transparent)]
-    Guess(#[from] crate::guess::GuessError),
-    /// An impossible presolve mesh.
-    #[error("presolve_mesh {0}")]
-    Presolve(String),
-    /// The solver refused the problem.
-    #[error("solver: {0}")]
-    Solver(String),
-    /// Reading earlier results failed.
-    #[error("reading {path}: {reason}")]
-    Read {
-        /// Path.
-        path: String,
-        /// Why.
-        reason: String,
-    },
-    /// Writing results failed.
-    #[error("writing {path}: {reason}")]
-    Write {
-        /// Path.
-        path: String,
-        /// Why.
-        reason: String,
-    },
-}
 
 /// Outcome of one solve from one initial guess.
 #[derive(Clone, Debug, Serialize)]
@@ -119,43 +84,12 @@ impl GuessReport {
     }
 }
 
-/// The summary written to `summary.json`.
-#[derive(Clone, Debug, Serialize)]
-pub struct Summary {
-    /// Which guess was kept.
-    pub kept_guess: Option<InitialGuess>,
-    /// Every guess's solve.
-    pub guesses: Vec<GuessReport>,
-    /// Solver backend.
-    pub solver: String,
-    /// Solver options of every guess's solve (Hessian mode, tolerances).
-    pub solver_options: SolverOptions,
-    /// Outcome measures of the kept solution.
-    pub outcomes: Option<Outcomes>,
-    /// The settings solved.
-    pub settings: ProblemSettings,
-    /// Body mass of the model [kg] (what the per-kilogram quantities are divided by).
-    pub body_mass: f64,
-    /// Number of NLP variables and constraints.
-    pub nlp_size: [usize; 2],
-    /// Unit of every physical quantity in this file, by key.
-    pub units: std::collections::BTreeMap<&'static str, &'static str>,
-}
-
 /// One solved guess with its solution.
 pub struct Solved {
     /// Report.
     pub report: GuessReport,
     /// Solver result (solution vector and log).
     pub result: SolveResult,
-}
-
-/// Experimental kinematics that define the bounds of a problem (walking half or full cycle).
-pub fn bounds_data(settings: &ProblemSettings) -> Storage {
-    match settings.cycle {
-        CycleKind::HalfSymmetric => data::walking_half_cycle(),
-        CycleKind::FullPeriodic => data::walking_full_cycle(),
-    }
 }
 
 /// The scaled NLP vector of initial guess `g` for `problem`; data-informed guesses follow
@@ -186,22 +120,6 @@ pub fn transcribe(
     let x0 = guess_point(&problem, g)?;
     let tape = TapeNode::for_problem(&problem, &node, &x0)?;
     Ok(Transcription::new(problem, tape, x0))
-}
-
-/// Runs `f` (a solve) with `threads` worker threads for the node-function evaluations (a
-/// rayon pool of that size; 0: rayon's global pool, one thread per core).
-pub fn with_threads<R: Send>(
-    threads: usize,
-    f: impl FnOnce() -> R + Send,
-) -> Result<R, PredictError> {
-    if threads == 0 {
-        return Ok(f());
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| PredictError::Solver(format!("thread pool of {threads} threads: {e}")))?;
-    Ok(pool.install(f))
 }
 
 /// Initial barrier parameter of a solve that starts from an optimum (a neighbouring case's
@@ -345,7 +263,8 @@ pub fn solve_from(
             progress(rec);
             ControlFlow::Continue(())
         })
-    })?
+    })
+    .map_err(PredictError::Solver)?
     .map_err(|e| PredictError::Solver(e.to_string()))
 }
 
@@ -553,186 +472,13 @@ pub fn select(solved: &[Solved]) -> Option<usize> {
         .map(|(i, _)| i)
 }
 
-/// A write error naming `path`.
-pub(crate) fn write_err(path: &Path, e: impl ToString) -> PredictError {
-    PredictError::Write {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    }
-}
-
-/// A read error naming `path`.
-pub(crate) fn read_err(path: &Path, e: impl ToString) -> PredictError {
-    PredictError::Read {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    }
-}
-
-/// The iteration log as CSV (one header line, one line per iteration).
-pub(crate) fn log_csv(records: &[IterationRecord]) -> String {
-    let mut log =
-        String::from("iter,objective,inf_pr,inf_du,mu,alpha_pr,alpha_du,regularisation,line_search_trials,factorisations,elapsed_s\n");
-    for r in records {
-        let _ = writeln!(
-            log,
-            "{},{},{},{},{},{},{},{},{},{},{}",
-            r.iter,
-            r.objective,
-            r.inf_pr,
-            r.inf_du,
-            r.mu,
-            r.alpha_pr,
-            r.alpha_du,
-            r.regularisation,
-            r.ls_trials,
-            r.factorisations,
-            r.elapsed.as_secs_f64()
-        );
-    }
-    log
-}
-
-/// Write every result file of a solved problem into `out` atomically: files go to a
-/// staging folder beside `out` ([`result_dir::stage`]) that replaces `out` only when
-/// complete. `out` must be free or a stride prediction result ([`result_dir::inspect`]).
-pub fn write_results(
-    problem: &GaitProblem,
-    solved: &[Solved],
-    kept: Option<usize>,
-    solver_name: &str,
-    options: &SolverOptions,
-    out: &Path,
-) -> Result<Summary, PredictError> {
-    let tmp =
-        result_dir::stage(out, "partial", ResultKind::Prediction).map_err(|e| write_err(out, e))?;
-    let result = write_results_into(problem, solved, kept, solver_name, options, &tmp);
-    swap_in(result, &tmp, out)
-}
-
-/// Write every result file of a solved problem into the existing folder `dir` (a staging
-/// folder its caller puts in place, e.g. a study's case folder in flight).
-pub fn write_results_into(
-    problem: &GaitProblem,
-    solved: &[Solved],
-    kept: Option<usize>,
-    solver_name: &str,
-    options: &SolverOptions,
-    dir: &Path,
-) -> Result<Summary, PredictError> {
-    let node = NodeModel::new(problem)?;
-    let mut outcomes = None;
-    // Solver logs of every guess (and of its coarse-mesh presolve).
-    for s in solved {
-        let p = dir.join(format!("solver_log_{}.csv", s.report.guess));
-        write_atomic(&p, log_csv(&s.result.log).as_bytes()).map_err(|e| write_err(&p, e))?;
-        if let Some(pre) = &s.report.presolve {
-            let p = dir.join(format!("solver_log_{}_presolve.csv", s.report.guess));
-            write_atomic(&p, log_csv(&pre.log).as_bytes()).map_err(|e| write_err(&p, e))?;
-        }
-    }
-    if let Some(k) = kept {
-        let mesh = problem.mesh_solution(&node, &solved[k].result.x)?;
-        let cycle = problem.gait_cycle(&mesh);
-        outcomes = Some(problem.outcomes(&node, &mesh, &cycle)?);
-        crate::outputs::write_cycle(problem, &node, &cycle, dir)?;
-        let x = &solved[k].result.x;
-        write_solution(dir, &SolutionFile::new(&problem.settings, x, &cycle))?;
-    }
-    let summary = Summary {
-        kept_guess: kept.map(|k| solved[k].report.guess),
-        guesses: solved.iter().map(|s| s.report.clone()).collect(),
-        solver: solver_name.into(),
-        solver_options: options.clone(),
-        outcomes,
-        settings: problem.settings.clone(),
-        body_mass: problem.body_mass,
-        nlp_size: [problem.layout.len(), 0],
-        units: crate::outputs::summary_units(),
-    };
-    let p = dir.join("summary.json");
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| write_err(&p, e))?;
-    write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
-    Ok(summary)
-}
-
-/// After a folder was written into `tmp`: on success `tmp` replaces `out`, on failure it is
-/// removed and `out` stays as it was.
-fn swap_in<T>(result: Result<T, PredictError>, tmp: &Path, out: &Path) -> Result<T, PredictError> {
-    match result {
-        Ok(v) => {
-            result_dir::commit(tmp, out).map_err(|e| write_err(out, e))?;
-            Ok(v)
-        }
-        Err(e) => {
-            let _ = std::fs::remove_dir_all(tmp);
-            Err(e)
-        }
-    }
-}
-
-/// Rewrite the reconstructed-cycle files of a result folder (motion, ground reaction
-/// forces, tables, figures) and the outcomes in its `summary.json` from the solution `x`
-/// (scaled NLP vector) with the current definitions; every other file and subfolder is kept.
-/// `also` may add or replace files in the new folder (it gets the cycle). The new folder is
-/// built beside `out` and swapped in: an interruption leaves the old folder or the new one.
-pub fn rewrite_results(
-    problem: &GaitProblem,
-    x: &[f64],
-    out: &Path,
-    also: impl FnOnce(&Trajectory, &Path) -> Result<(), PredictError>,
-) -> Result<Outcomes, PredictError> {
-    let summary_path = out.join("summary.json");
-    let text = std::fs::read_to_string(&summary_path).map_err(|e| read_err(&summary_path, e))?;
-    let mut summary: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| read_err(&summary_path, e))?;
-    if !summary.is_object() {
-        return Err(read_err(&summary_path, "not a JSON object"));
-    }
-    let node = NodeModel::new(problem)?;
-    let mesh = problem.mesh_solution(&node, x)?;
-    let cycle = problem.gait_cycle(&mesh);
-    let outcomes = problem.outcomes(&node, &mesh, &cycle)?;
-    let tmp =
-        result_dir::stage(out, "rewrite", ResultKind::Prediction).map_err(|e| write_err(out, e))?;
-    let result = (|| {
-        copy_tree(out, &tmp)?;
-        crate::outputs::write_cycle(problem, &node, &cycle, &tmp)?;
-        summary["outcomes"] =
-            serde_json::to_value(&outcomes).map_err(|e| write_err(&summary_path, e))?;
-        summary["body_mass"] = serde_json::json!(problem.body_mass);
-        summary["units"] = serde_json::to_value(crate::outputs::summary_units())
-            .map_err(|e| write_err(&summary_path, e))?;
-        let p = tmp.join("summary.json");
-        let json = serde_json::to_string_pretty(&summary).map_err(|e| write_err(&p, e))?;
-        write_atomic(&p, json.as_bytes()).map_err(|e| write_err(&p, e))?;
-        also(&cycle, &tmp)
-    })();
-    swap_in(result.map(|()| outcomes), &tmp, out)
-}
-
-/// Copy the files and subfolders of `from` into the existing folder `to`.
-fn copy_tree(from: &Path, to: &Path) -> Result<(), PredictError> {
-    for entry in std::fs::read_dir(from).map_err(|e| write_err(from, e))? {
-        let entry = entry.map_err(|e| write_err(from, e))?;
-        let dst = to.join(entry.file_name());
-        if entry.file_type().map_err(|e| write_err(from, e))?.is_dir() {
-            std::fs::create_dir(&dst).map_err(|e| write_err(&dst, e))?;
-            copy_tree(&entry.path(), &dst)?;
-        } else {
-            std::fs::copy(entry.path(), &dst).map_err(|e| write_err(&dst, e))?;
-        }
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::{
-        presolve_for, warm_start_options, with_threads, Presolve, PRESOLVE_MESH,
-        WARM_START_BOUND_PUSH, WARM_START_MU,
+        presolve_for, warm_start_options, Presolve, PRESOLVE_MESH, WARM_START_BOUND_PUSH,
+        WARM_START_MU,
     };
-    use crate::settings::{CycleKind, ProblemSettings};
+    use stride_ocp::settings::{CycleKind, ProblemSettings};
     use stride_solve::ipm::InteriorPoint;
     use stride_solve::solver::{HessianMode, SolverOptions};
 
@@ -828,16 +574,5 @@ mod tests {
         let w = warm_start_options(&ipm, &exact);
         assert_eq!(w.hessian, HessianMode::Exact);
         assert!(w.compl_inf_tol < 1.01e-5);
-    }
-
-    #[test]
-    fn a_solve_runs_with_the_threads_asked_for() {
-        for n in [1, 3] {
-            let seen = with_threads(n, rayon::current_num_threads).unwrap();
-            assert_eq!(seen, n);
-        }
-        // 0: the global pool, one thread per core
-        let global = rayon::current_num_threads();
-        assert_eq!(with_threads(0, rayon::current_num_threads).unwrap(), global);
     }
 }

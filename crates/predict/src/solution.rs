@@ -1,16 +1,17 @@
 //! The kept solution of a result folder (`solution.json`): the settings, the optimal NLP
 //! vector and the reconstructed cycle's coordinates. `stride predict` and every study case
 //! write it, so that a folder can be rewritten with the current definitions
-//! ([`rewrite_folder`]) and serve as the source of a continuation guess.
+//! ([`crate::results::rewrite_folder`]) and serve as the source of a continuation guess.
 
-use crate::predict::{bounds_data, read_err, rewrite_results, write_err, PredictError};
-use crate::problem::GaitProblem;
-use crate::settings::ProblemSettings;
-use crate::trajectory::Trajectory;
+use crate::error::{read_err, write_err, PredictError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use stride_model::storage::write_atomic;
+use stride_files::write_atomic;
 use stride_model::Model;
+use stride_ocp::bounds::bounds_data;
+use stride_ocp::problem::GaitProblem;
+use stride_ocp::settings::ProblemSettings;
+use stride_ocp::trajectory::Trajectory;
 
 /// File with a result folder's optimal NLP vector and its reconstructed cycle coordinates.
 pub const SOLUTION_FILE: &str = "solution.json";
@@ -71,32 +72,4 @@ pub fn solution_problem(
         return Err(read_err(&dir.join(SOLUTION_FILE), reason));
     }
     Ok((sol, problem))
-}
-
-/// What [`rewrite_folder`] did with a result folder.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Rewritten {
-    /// The cycle files, outcomes and solution cycle were rewritten.
-    Rewritten,
-    /// The folder has no kept solution (not converged, or no `solution.json`): untouched.
-    NoSolution,
-}
-
-/// Rewrite a result folder's files (motion, tables, figures, outcomes in `summary.json`)
-/// and the cycle of its `solution.json` from its solution with the current definitions,
-/// e.g. after a change in how the gait cycle is reconstructed. The solver files (logs,
-/// iterations, times) are kept; the folder is swapped in whole.
-pub fn rewrite_folder(model: &Model, dir: &Path) -> Result<Rewritten, PredictError> {
-    let summary = std::fs::read_to_string(dir.join("summary.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
-    let kept = summary.is_some_and(|s| !s["kept_guess"].is_null());
-    if !kept || !dir.join(SOLUTION_FILE).exists() {
-        return Ok(Rewritten::NoSolution);
-    }
-    let (sol, problem) = solution_problem(model, dir)?;
-    rewrite_results(&problem, &sol.x, dir, |cycle, tmp| {
-        write_solution(tmp, &SolutionFile::new(&sol.settings, &sol.x, cycle))
-    })?;
-    Ok(Rewritten::Rewritten)
 }

@@ -2,14 +2,15 @@
 //! points, tracking errors (RMSE and R²) per quantity, and the result folder (tables,
 //! motion, summary, solver log, figures), written atomically.
 
-use super::{TrackError, TrackingProblem};
 use crate::figures::{render_files, NamedFigure};
-use crate::layout::Point;
 use serde::Serialize;
 use std::path::Path;
-use stride_model::result_dir::{self, ResultKind};
-use stride_model::storage::{write_atomic, Storage};
+use stride_files::result_dir::{write_staged, ResultKind};
+use stride_files::write_atomic;
+use stride_model::storage::Storage;
 use stride_model::MotionType;
+use stride_ocp::layout::Point;
+use stride_ocp::tracking::{TrackError, TrackingProblem};
 use stride_plot::color::Color;
 use stride_plot::figure::{Figure, Panel, Series};
 use stride_solve::solver::{SolveResult, SolverOptions};
@@ -98,72 +99,71 @@ pub struct TrackingErrors {
 const FEET: [&str; 2] = ["right", "left"];
 const AXES: [&str; 3] = ["x", "y", "z"];
 
-impl TrackingProblem {
-    /// Model and measured quantities of the solution `x` at the collocation points.
-    pub fn tracked(&self, x: &[f64]) -> Result<Tracked, TrackError> {
-        let node = self.node()?;
-        let mut ws = node.workspace::<f64>()?;
-        let p = &self.problem;
-        let g = &p.gait;
-        let deg = |i: usize| g.coordinates[i].motion_type == MotionType::Rotational;
-        let unit = |i: usize| if deg(i) { "deg" } else { "m" };
-        let conv = |i: usize, v: f64| if deg(i) { v.to_degrees() } else { v };
-        let mut t = Tracked {
-            time: self.times.clone(),
-            ..Default::default()
-        };
-        let channel = |name: String, unit| Channel {
-            name,
-            unit,
-            model: Vec::new(),
-            measured: Vec::new(),
-        };
-        t.angles = (0..g.nq())
-            .map(|i| channel(g.coordinates[i].name.clone(), unit(i)))
+/// Model and measured quantities of the tracking problem `tp`'s solution `x` at the
+/// collocation points.
+pub fn tracked(tp: &TrackingProblem, x: &[f64]) -> Result<Tracked, TrackError> {
+    let node = tp.node()?;
+    let mut ws = node.workspace::<f64>()?;
+    let p = &tp.problem;
+    let g = &p.gait;
+    let deg = |i: usize| g.coordinates[i].motion_type == MotionType::Rotational;
+    let unit = |i: usize| if deg(i) { "deg" } else { "m" };
+    let conv = |i: usize, v: f64| if deg(i) { v.to_degrees() } else { v };
+    let mut t = Tracked {
+        time: tp.times.clone(),
+        ..Default::default()
+    };
+    let channel = |name: String, unit| Channel {
+        name,
+        unit,
+        model: Vec::new(),
+        measured: Vec::new(),
+    };
+    t.angles = (0..g.nq())
+        .map(|i| channel(g.coordinates[i].name.clone(), unit(i)))
+        .collect();
+    for (q, name) in [(&mut t.grf, "grf"), (&mut t.grt, "grt")] {
+        *q = (0..6)
+            .map(|c| channel(format!("{name}_{}_{}", FEET[c / 3], AXES[c % 3]), ""))
             .collect();
-        for (q, name) in [(&mut t.grf, "grf"), (&mut t.grt, "grt")] {
-            *q = (0..6)
-                .map(|c| channel(format!("{name}_{}_{}", FEET[c / 3], AXES[c % 3]), ""))
-                .collect();
-        }
-        t.grf.iter_mut().for_each(|c| c.unit = "N");
-        t.grt.iter_mut().for_each(|c| c.unit = "N m");
-        t.torques = self
-            .terms
-            .torques
-            .iter()
-            .map(|&i| channel(g.coordinates[i].name.clone(), "N m"))
-            .collect();
-        let l = &p.layout;
-        for (n, s) in self.samples.iter().enumerate() {
-            let pt = Point::Col(n / 3, n % 3 + 1);
-            for (i, c) in t.angles.iter_mut().enumerate() {
-                c.model.push(conv(i, x[l.q(pt, i)] * p.scaling.q[i]));
-                c.measured.push(conv(i, s.q[i]));
-            }
-            let out = node.sample(&mut ws, &self.node_inputs(x, n));
-            for c in 0..6 {
-                t.grf[c].model.push(out.group_force[c / 3][c % 3]);
-                t.grf[c].measured.push(s.grf[c]);
-                t.grt[c].model.push(out.group_moment[c / 3][c % 3]);
-                t.grt[c].measured.push(s.grt[c]);
-            }
-            for (k, &i) in self.terms.torques.iter().enumerate() {
-                t.torques[k].model.push(out.tau[i]);
-                t.torques[k].measured.push(s.tau[i]);
-            }
-        }
-        // only the tracked coordinates are reported
-        let tracked = &self.terms.coordinates;
-        t.angles = t
-            .angles
-            .into_iter()
-            .enumerate()
-            .filter(|(i, _)| tracked.contains(i))
-            .map(|(_, c)| c)
-            .collect();
-        Ok(t)
     }
+    t.grf.iter_mut().for_each(|c| c.unit = "N");
+    t.grt.iter_mut().for_each(|c| c.unit = "N m");
+    t.torques = tp
+        .terms
+        .torques
+        .iter()
+        .map(|&i| channel(g.coordinates[i].name.clone(), "N m"))
+        .collect();
+    let l = &p.layout;
+    for (n, s) in tp.samples.iter().enumerate() {
+        let pt = Point::Col(n / 3, n % 3 + 1);
+        for (i, c) in t.angles.iter_mut().enumerate() {
+            c.model.push(conv(i, x[l.q(pt, i)] * p.scaling.q[i]));
+            c.measured.push(conv(i, s.q[i]));
+        }
+        let out = node.sample(&mut ws, &tp.node_inputs(x, n));
+        for c in 0..6 {
+            t.grf[c].model.push(out.group_force[c / 3][c % 3]);
+            t.grf[c].measured.push(s.grf[c]);
+            t.grt[c].model.push(out.group_moment[c / 3][c % 3]);
+            t.grt[c].measured.push(s.grt[c]);
+        }
+        for (k, &i) in tp.terms.torques.iter().enumerate() {
+            t.torques[k].model.push(out.tau[i]);
+            t.torques[k].measured.push(s.tau[i]);
+        }
+    }
+    // only the tracked coordinates are reported
+    let tracked = &tp.terms.coordinates;
+    t.angles = t
+        .angles
+        .into_iter()
+        .enumerate()
+        .filter(|(i, _)| tracked.contains(i))
+        .map(|(_, c)| c)
+        .collect();
+    Ok(t)
 }
 
 impl Tracked {
@@ -216,7 +216,7 @@ pub struct TrackSummary<'a> {
     /// Tracking errors.
     pub errors: TrackingErrors,
     /// Settings of the run.
-    pub settings: &'a super::TrackSettings,
+    pub settings: &'a stride_ocp::tracking::TrackSettings,
     /// Solver name and options.
     pub solver: String,
     /// Solver options.
@@ -251,8 +251,8 @@ pub fn write_results(
     out: &Path,
     extra: &[(String, Vec<u8>)],
 ) -> Result<TrackingErrors, TrackError> {
-    let tracked = tp.tracked(&r.x)?;
-    let errors = tracked.errors(tp.problem.body_mass * crate::problem::GRAVITY);
+    let tracked = tracked(tp, &r.x)?;
+    let errors = tracked.errors(tp.problem.body_mass * stride_ocp::problem::GRAVITY);
     let summary = TrackSummary {
         status: format!("{:?}", r.status),
         iterations: r.iterations,
@@ -280,7 +280,7 @@ pub fn write_results(
         ("grt.csv".into(), tracked.csv(&tracked.grt).into_bytes()),
         (
             "solver_log.csv".into(),
-            crate::predict::log_csv(&r.log).into_bytes(),
+            crate::results::log_csv(&r.log).into_bytes(),
         ),
         ("motion.mot".into(), motion(tp, &r.x).into_bytes()),
     ];
@@ -336,12 +336,16 @@ pub fn write_results(
 fn calibration_files(tp: &TrackingProblem, x: &[f64]) -> Vec<(String, Vec<u8>)> {
     let scaled = tp.static_variables(x);
     let values = tp.statics.values(scaled);
-    let geometry = super::calibration::calibrated_geometry(&tp.problem.model, &tp.statics, scaled);
+    let geometry = stride_ocp::tracking::calibration::calibrated_geometry(
+        &tp.problem.model,
+        &tp.statics,
+        scaled,
+    );
     let header = "contact spheres calibrated by `stride track --calibrate-contact` (FORMULATION 12.6); use with the problem setting contact_geometry";
     vec![
         (
             "contact_parameters.csv".into(),
-            super::calibration::parameters_csv(&tp.statics, &values).into_bytes(),
+            stride_ocp::tracking::calibration::parameters_csv(&tp.statics, &values).into_bytes(),
         ),
         (
             "contact_geometry.toml".into(),
@@ -384,17 +388,12 @@ fn motion(tp: &TrackingProblem, x: &[f64]) -> String {
 
 /// Writes `files` into a fresh sibling folder of `out` and swaps it in.
 fn write_folder(out: &Path, files: &[(String, Vec<u8>)]) -> Result<(), TrackError> {
-    let tmp =
-        result_dir::stage(out, "partial", ResultKind::Prediction).map_err(|e| write_err(out, e))?;
-    let result = (|| {
+    let io = |e| write_err(out, e);
+    write_staged(out, "partial", ResultKind::Prediction, io, |tmp| {
         for (f, bytes) in files {
             let p = tmp.join(f);
             write_atomic(&p, bytes).map_err(|e| write_err(&p, e))?;
         }
-        result_dir::commit(&tmp, out).map_err(|e| write_err(out, e))
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    result
+        Ok(())
+    })
 }

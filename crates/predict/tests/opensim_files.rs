@@ -24,7 +24,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use stride_ocp::predict;
+use stride_predict::results;
 use stride_solve::solver::SolverOptions;
 
 fn repo() -> PathBuf {
@@ -56,7 +56,7 @@ fn opensim_python() -> Option<PathBuf> {
 fn write_guess_folder(out: &Path) {
     let (_, problem, mut solved) = common::guess_solved(10);
     common::continuous(&problem, &mut solved[0].result.x);
-    predict::write_results(
+    results::write_results(
         &problem,
         &solved,
         Some(0),

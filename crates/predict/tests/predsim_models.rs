@@ -7,12 +7,13 @@
 use stride_geometry::GeometryFile;
 use stride_model::model_settings::ModelSettings;
 use stride_model::Model;
+use stride_ocp::bounds::bounds_data;
 use stride_ocp::passive_rules::{PassiveCost, ToeDrive};
-use stride_ocp::predict::{bounds_data, guess_point};
 use stride_ocp::{
     guess::GuessKind, node::NodeModel, problem::GaitProblem, settings::ProblemSettings,
     tape_node::TapeNode, transcription::Transcription,
 };
+use stride_predict::predict::guess_point;
 use stride_solve::nlp::{check_derivatives, DerivativeCheckOptions};
 
 /// A model shipped with stride, with its settings file and fitted geometry.

@@ -20,15 +20,11 @@ use std::sync::Arc;
 use std::time::Duration;
 use stride_model::storage::Storage;
 use stride_ocp::{
-    guess::GuessKind,
-    node::NodeModel,
-    predict::{select, solve_guesses, write_results},
-    problem::GaitProblem,
-    settings::ProblemSettings,
-    solution::{rewrite_folder, Rewritten},
-    tape_node::TapeNode,
-    transcription::Transcription,
+    guess::GuessKind, node::NodeModel, problem::GaitProblem, settings::ProblemSettings,
+    tape_node::TapeNode, transcription::Transcription,
 };
+use stride_predict::predict::{select, solve_guesses};
+use stride_predict::results::{rewrite_folder, write_results, Rewritten};
 use stride_solve::ipm::InteriorPoint;
 use stride_solve::nlp::Nlp;
 use stride_solve::solver::{HessianMode, MuStrategy, SolveResult, SolveStatus, SolverOptions};
@@ -283,7 +279,7 @@ fn presolve_on_a_coarser_mesh_starts_near_feasible_and_converges() {
         ..Default::default()
     };
     let solver = InteriorPoint::new();
-    let presolve = stride_ocp::predict::Presolve { mesh_intervals: 4 };
+    let presolve = stride_predict::predict::Presolve { mesh_intervals: 4 };
     let (problem, solved) = solve_guesses(
         &model,
         &settings(8),
@@ -337,7 +333,7 @@ fn presolve_on_a_coarser_mesh_starts_near_feasible_and_converges() {
     let coarse = GaitProblem::new(
         &model,
         &coarse_settings,
-        &stride_ocp::predict::bounds_data(&coarse_settings),
+        &stride_ocp::bounds::bounds_data(&coarse_settings),
     )
     .unwrap();
     let (_, coarse_solved) = solve_guesses(
@@ -357,7 +353,8 @@ fn presolve_on_a_coarser_mesh_starts_near_feasible_and_converges() {
     let start = problem
         .guess_from_full_solution(&coarse, &coarse_solved[0].result.x)
         .unwrap();
-    let guess = stride_ocp::predict::guess_point(&problem, GuessKind::DataInformedWalking).unwrap();
+    let guess =
+        stride_predict::predict::guess_point(&problem, GuessKind::DataInformedWalking).unwrap();
     let (v_start, v_guess) = (
         violation_at(&problem, &start),
         violation_at(&problem, &guess),

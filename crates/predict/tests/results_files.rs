@@ -6,7 +6,8 @@ mod common;
 
 use std::path::PathBuf;
 use stride_model::storage::Storage;
-use stride_ocp::{predict, problem::GaitProblem};
+use stride_ocp::problem::GaitProblem;
+use stride_predict::{predict, results};
 use stride_solve::solver::SolverOptions;
 
 /// The data-informed walking guess on 10 intervals (`continuous`: its states at the end of
@@ -18,7 +19,7 @@ struct GuessResults {
     solved: Vec<predict::Solved>,
     dir: PathBuf,
     out: PathBuf,
-    summary: predict::Summary,
+    summary: results::Summary,
 }
 
 fn guess_results(tag: &str, continuous: bool) -> GuessResults {
@@ -28,7 +29,7 @@ fn guess_results(tag: &str, continuous: bool) -> GuessResults {
     }
     let dir = std::env::temp_dir().join(format!("stride-{tag}-{}", std::process::id()));
     let out = dir.join("run");
-    let summary = predict::write_results(
+    let summary = results::write_results(
         &problem,
         &solved,
         Some(0),
@@ -129,7 +130,7 @@ fn results_are_valid_storage_files() {
     summary_json["outcomes"] = serde_json::Value::Null;
     std::fs::write(out.join("summary.json"), summary_json.to_string()).unwrap();
     let x = &solved[0].result.x;
-    let rewritten = predict::rewrite_results(&problem, x, &out, |cycle, tmp| {
+    let rewritten = results::rewrite_results(&problem, x, &out, |cycle, tmp| {
         std::fs::write(tmp.join("extra.txt"), format!("{}", cycle.time.len())).unwrap();
         Ok(())
     })
@@ -164,8 +165,8 @@ fn results_are_valid_storage_files() {
     assert_eq!(after["guesses"][0]["guess"], "data-informed-walking");
     // A failure while rewriting leaves the folder as it was, with no temporary folder.
     std::fs::write(out.join("joint_angles.csv"), "stale").unwrap();
-    let e = predict::rewrite_results(&problem, x, &out, |_, tmp| {
-        Err(predict::PredictError::Write {
+    let e = results::rewrite_results(&problem, x, &out, |_, tmp| {
+        Err(stride_predict::error::PredictError::Write {
             path: tmp.display().to_string(),
             reason: "test".into(),
         })
@@ -184,7 +185,7 @@ fn results_are_valid_storage_files() {
     assert_eq!(names, ["run"], "only the result folder remains");
     // A folder without summary.json is an error that names the file.
     std::fs::remove_file(out.join("summary.json")).unwrap();
-    let e = predict::rewrite_results(&problem, x, &out, |_, _| Ok(())).unwrap_err();
+    let e = results::rewrite_results(&problem, x, &out, |_, _| Ok(())).unwrap_err();
     assert!(e.to_string().starts_with("reading ") && e.to_string().contains("summary.json"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -340,4 +341,32 @@ fn each_foot_centre_of_pressure_lies_under_that_foot() {
         "loaded samples {checked:?}"
     );
     std::fs::remove_dir_all(&r.dir).unwrap();
+}
+
+/// `write_results` on the data-informed walking guess (no solve) writes the figures
+/// next to the tables.
+#[test]
+fn write_results_writes_the_figures() {
+    let (_, problem, solved) = common::guess_solved(10);
+    let dir = std::env::temp_dir().join(format!("stride-figures-{}", std::process::id()));
+    let out = dir.join("run");
+    results::write_results(
+        &problem,
+        &solved,
+        Some(0),
+        "test",
+        &SolverOptions::default(),
+        &out,
+    )
+    .unwrap();
+    for name in ["figure_kinematics", "figure_kinetics", "figure_activations"] {
+        let svg = std::fs::read_to_string(out.join(format!("{name}.svg"))).unwrap();
+        stride_plot::png::parse_svg(&svg).unwrap();
+        let png = std::fs::read(out.join(format!("{name}.png"))).unwrap();
+        assert_eq!(&png[1..4], b"PNG", "{name}");
+    }
+    // The tables still hold one row per sample of the 2N-sample cycle.
+    let angles = std::fs::read_to_string(out.join("joint_angles.csv")).unwrap();
+    assert_eq!(angles.lines().count(), 1 + 20);
+    std::fs::remove_dir_all(&dir).unwrap();
 }

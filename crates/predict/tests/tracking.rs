@@ -3,8 +3,8 @@
 //! trial or setting gives (naming the file and the column or window).
 
 use std::path::PathBuf;
-use stride_ocp::tracking::output::Channel;
 use stride_ocp::tracking::{TrackError, TrackSettings, TrackingProblem};
+use stride_predict::track_output::Channel;
 use stride_solve::nlp::{check_derivatives, DerivativeCheckOptions, Nlp};
 
 fn small(settings: TrackSettings) -> Result<TrackingProblem, TrackError> {

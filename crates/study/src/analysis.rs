@@ -8,7 +8,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
-use stride_model::storage::write_atomic;
+use stride_files::write_atomic;
 use stride_ocp::settings::ProblemSettings;
 
 /// Gait type from the phase of the centre-of-mass energies.
@@ -266,7 +266,7 @@ pub struct Report {
 pub fn mesh_caption<'a>(settings: impl Iterator<Item = &'a ProblemSettings>) -> String {
     let mut meshes: Vec<String> = Vec::new();
     for s in settings {
-        let m = stride_ocp::figures::mesh_caption(s);
+        let m = stride_predict::figures::mesh_caption(s);
         if !meshes.contains(&m) {
             meshes.push(m);
         }

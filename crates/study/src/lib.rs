@@ -3,7 +3,7 @@
 //! - [`spec`]: study files (`[study]`, `[base]`, `[grid]`) expanded into named cases.
 //! - [`store`]: the output folder (finished cases, study hash, `index.csv`).
 //! - [`runner`]: parallel, resumable execution through a [`runner::CaseRunner`].
-//! - [`predict_runner`]: the real runner (`stride_ocp::predict`, continuation guesses).
+//! - [`predict_runner`]: the real runner (`stride_predict::predict`, continuation guesses).
 //! - [`analysis`]: walk/run classification, transition speed, fits, `report.json`.
 //! - [`conditions`]: conditions against the reference case (`conditions.csv`, figure).
 //! - [`figures`]: COT and stride frequency versus speed (SVG, PNG).

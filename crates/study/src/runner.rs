@@ -340,7 +340,7 @@ fn claim_case(
     i: usize,
     shared: &Mutex<Shared>,
     wake: &Condvar,
-) -> Option<stride_model::claim::Claim> {
+) -> Option<stride_files::claim::Claim> {
     let claimed = store.claim(&cases[i].name).and_then(|c| {
         let record = store.record(&cases[i].name)?;
         Ok((c, record))

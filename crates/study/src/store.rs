@@ -8,10 +8,10 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use stride_model::claim::{Claim, ClaimError, Holder};
-use stride_model::lock::{FileLock, LockError, LockMode};
-use stride_model::result_dir::{self, OutputError, ResultKind};
-use stride_model::storage::write_atomic;
+use stride_files::claim::{Claim, ClaimError, Holder};
+use stride_files::lock::{FileLock, LockError, LockMode};
+use stride_files::result_dir::{self, OutputError, ResultKind};
+use stride_files::write_atomic;
 
 /// File marking a finished case (its record, written last inside the case folder).
 pub const CASE_RECORD: &str = "case.json";
@@ -22,7 +22,7 @@ pub const STUDY_HASH: &str = "study.hash";
 /// with a claim on the case it runs ([`Store::claim`]).
 pub const STUDY_LOCK: &str = ".lock";
 
-/// Folder of the case claim files (`<case>.lock`, [`stride_model::claim`]): a claim file
+/// Folder of the case claim files (`<case>.lock`, [`stride_files::claim`]): a claim file
 /// names the live or last process that ran the case.
 pub const CLAIMS: &str = "claims";
 

@@ -141,7 +141,7 @@ pub fn run(
     }
     std::fs::create_dir_all(&dir).with_context(|| dir.display().to_string())?;
     for (path, text) in &scripts {
-        stride_model::storage::write_atomic(path, text.as_bytes())
+        stride_files::write_atomic(path, text.as_bytes())
             .with_context(|| path.display().to_string())?;
     }
     let mut ids: Vec<String> = Vec::new();

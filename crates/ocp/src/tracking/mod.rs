@@ -4,7 +4,6 @@
 //! fixed time window (no symmetry, no speed constraint, fixed duration).
 
 pub mod calibration;
-pub mod output;
 pub mod terms;
 pub mod trial;
 
@@ -305,7 +304,7 @@ impl TrackingProblem {
                 ControlFlow::Continue(())
             })
         };
-        crate::predict::with_threads(options.threads, run)
+        crate::threads::with_threads(options.threads, run)
             .map_err(|e| TrackError::Solver(e.to_string()))?
             .map_err(|e| TrackError::Solver(e.to_string()))
     }

@@ -2,8 +2,8 @@
 //! experimental reference.
 
 use super::*;
-use crate::data;
 use std::path::Path;
+use stride_ocp::data;
 
 /// The reference data: the shipped one when it has channels, else imported from the
 /// shared reference folder; `None` when neither is available.
@@ -231,74 +231,4 @@ fn figures_without_reference_show_the_prediction_only() {
     assert!(figs[0].figure.panels[3].series.is_empty());
     assert_eq!(figs[2].figure.panels.len(), 1);
     render_files(&figs).unwrap();
-}
-
-/// `write_results` on the data-informed walking guess (no solve) writes the figures
-/// next to the tables.
-#[test]
-fn write_results_writes_the_figures() {
-    use crate::{
-        experimental::Kinematics, guess::GuessKind, predict, problem::GaitProblem,
-        settings::ProblemSettings,
-    };
-    use std::time::Duration;
-    use stride_solve::solver::{SolveResult, SolveStatus, SolverOptions};
-    let model = stride_model::default_model::default_model();
-    let settings = ProblemSettings {
-        mesh_intervals: 10,
-        ..Default::default()
-    };
-    let walking = data::walking_half_cycle();
-    let problem = GaitProblem::new(&model, &settings, &walking).unwrap();
-    let kin = Kinematics::from_storage(&walking, &problem.gait, "walking").unwrap();
-    let x = problem
-        .initial_guess(GuessKind::DataInformedWalking, Some(&kin))
-        .unwrap();
-    let result = SolveResult {
-        status: SolveStatus::Optimal,
-        iterations: 0,
-        objective: 0.0,
-        constraint_violation: 0.0,
-        dual_infeasibility: 0.0,
-        x,
-        lambda: Vec::new(),
-        z_l: Vec::new(),
-        z_u: Vec::new(),
-        time_total: Duration::ZERO,
-        time_evaluations: Duration::ZERO,
-        time_linear_solver: Duration::ZERO,
-        time_symbolic: Duration::ZERO,
-        time_factorisation: Duration::ZERO,
-        solves: 0,
-        time_solves: Duration::ZERO,
-        factorizations: 0,
-        objective_evaluations: 0,
-        exact_hessian_from: None,
-        log: Vec::new(),
-    };
-    let solved = vec![predict::Solved {
-        report: predict::GuessReport::new(GuessKind::DataInformedWalking, &result),
-        result,
-    }];
-    let dir = std::env::temp_dir().join(format!("stride-figures-{}", std::process::id()));
-    let out = dir.join("run");
-    predict::write_results(
-        &problem,
-        &solved,
-        Some(0),
-        "test",
-        &SolverOptions::default(),
-        &out,
-    )
-    .unwrap();
-    for name in ["figure_kinematics", "figure_kinetics", "figure_activations"] {
-        let svg = std::fs::read_to_string(out.join(format!("{name}.svg"))).unwrap();
-        stride_plot::png::parse_svg(&svg).unwrap();
-        let png = std::fs::read(out.join(format!("{name}.png"))).unwrap();
-        assert_eq!(&png[1..4], b"PNG", "{name}");
-    }
-    // The tables still hold one row per sample of the 2N-sample cycle.
-    let angles = std::fs::read_to_string(out.join("joint_angles.csv")).unwrap();
-    assert_eq!(angles.lines().count(), 1 + 20);
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -19,13 +19,13 @@ pub use opensim::{
 };
 pub use tables::{column_name, summary_units};
 
+use crate::error::{write_err, PredictError};
 use crate::figures::{self, CycleTables};
-use crate::node::NodeModel;
-use crate::predict::{write_err, PredictError};
-use crate::problem::GaitProblem;
-use crate::trajectory::Trajectory;
 use std::path::Path;
-use stride_model::storage::write_atomic;
+use stride_files::write_atomic;
+use stride_ocp::node::NodeModel;
+use stride_ocp::problem::GaitProblem;
+use stride_ocp::trajectory::Trajectory;
 
 /// Write every file of the reconstructed gait cycle `cycle` of `problem` into `dir`:
 /// OpenSim files, CSV tables and figures.
@@ -43,7 +43,7 @@ pub fn write_cycle(
     let t = CycleTables::new(problem, cycle);
     tables::write_tables(&t, dir)?;
     muscles::write_muscle_tables(&t, &samples, dir)?;
-    let reference = crate::data::walking_reference();
+    let reference = stride_ocp::data::walking_reference();
     let mut figs = figures::gait_figures(&t, &reference);
     if problem.settings.prosthesis.is_some() {
         figs.extend(figures::prosthesis_figure(&t, &reference));

@@ -2,10 +2,10 @@
 //! power.
 
 use super::tables::{csv, write_file};
+use crate::error::PredictError;
 use crate::figures::CycleTables;
-use crate::node::SampleOutputs;
-use crate::predict::PredictError;
 use std::path::Path;
+use stride_ocp::node::SampleOutputs;
 
 /// Write `muscle_forces.csv` (tendon force [N]), `fiber_lengths.csv` [m],
 /// `fiber_velocities.csv` (lengthening positive [m s⁻¹]) and `metabolic_power.csv`

@@ -3,15 +3,15 @@
 //! OpenSim component paths.
 
 use super::tables::write_file;
-use crate::gait::Actuation;
-use crate::node::SampleOutputs;
-use crate::predict::{write_err, PredictError};
-use crate::problem::GaitProblem;
-use crate::trajectory::Trajectory;
+use crate::error::{write_err, PredictError};
 use std::path::Path;
 use stride_model::default_model::{default_model, DEFAULT_MODEL_OSIM};
 use stride_model::storage::Storage;
 use stride_model::{Model, MotionType};
+use stride_ocp::gait::Actuation;
+use stride_ocp::node::SampleOutputs;
+use stride_ocp::problem::GaitProblem;
+use stride_ocp::trajectory::Trajectory;
 
 /// The model that produced the result (a copy of the user's `.osim`, or the built-in model).
 pub const MODEL_FILE: &str = "model.osim";

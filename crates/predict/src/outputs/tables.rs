@@ -1,12 +1,12 @@
 //! CSV tables of a gait cycle: one row per sample, the unit of every column in its header
 //! (`hip_flexion_r [deg]`).
 
+use crate::error::{write_err, PredictError};
 use crate::figures::CycleTables;
-use crate::predict::{write_err, PredictError};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
-use stride_model::storage::write_atomic;
+use stride_files::write_atomic;
 
 /// The name of a table column without its unit: `hip_flexion_r [deg]` → `hip_flexion_r`.
 pub fn column_name(header: &str) -> &str {

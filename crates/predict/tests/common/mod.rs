@@ -3,9 +3,10 @@
 
 use std::time::Duration;
 use stride_ocp::{
-    data, experimental::Kinematics, guess::GuessKind, layout::Point, predict, problem::GaitProblem,
+    data, experimental::Kinematics, guess::GuessKind, layout::Point, problem::GaitProblem,
     settings::ProblemSettings,
 };
+use stride_predict::predict;
 use stride_solve::solver::{SolveResult, SolveStatus};
 
 /// The built-in model, its problem on `mesh` intervals and the data-informed walking guess
