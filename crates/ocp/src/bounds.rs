@@ -8,29 +8,9 @@
 
 use crate::experimental::Kinematics;
 use crate::gait::{side_of, GaitModel};
+use crate::range::Range;
 use crate::settings::{CycleKind, ProblemSettings};
 use stride_model::storage::Storage;
-
-/// Lower and upper bound of one quantity (physical units).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Range {
-    /// Lower bound.
-    pub lo: f64,
-    /// Upper bound.
-    pub hi: f64,
-}
-
-impl Range {
-    /// Scale factor max(|lo|, |hi|) (1 when both are 0).
-    pub fn scale(&self) -> f64 {
-        let s = self.lo.abs().max(self.hi.abs());
-        if s > 0.0 {
-            s
-        } else {
-            1.0
-        }
-    }
-}
 
 /// Bounds of the coordinate-related variables, in problem coordinate order.
 #[derive(Clone, Debug)]

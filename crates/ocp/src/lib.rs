@@ -9,6 +9,7 @@
 //! - [`layout`]: the NLP variable layout.
 //! - [`contact_geometry`]: contact-sphere geometry files (calibrated spheres).
 //! - [`statics`]: static parameters (constant over time) appended to the NLP vector.
+//! - [`outcomes`]: outcome measures of a predicted gait cycle.
 //! - [`measures`]: trunk sway and stance measures compared between conditions.
 //! - [`threads`]: the worker threads of a solve.
 
@@ -21,16 +22,20 @@ pub mod gait;
 pub mod guess;
 mod jacobian_fill;
 pub mod layout;
+mod linear_rows;
 pub mod measures;
 pub mod node;
+pub mod outcomes;
 pub mod passive_rules;
 pub mod problem;
 pub mod radau;
+pub mod range;
 pub mod settings;
 pub mod size;
 pub mod statics;
 pub mod tape_node;
 pub mod threads;
 pub mod tracking;
+pub mod tracking_terms;
 pub mod trajectory;
 pub mod transcription;

@@ -14,9 +14,10 @@ use stride_files::write_atomic;
 use stride_model::Model;
 use stride_ocp::guess::InitialGuess;
 use stride_ocp::node::NodeModel;
+use stride_ocp::outcomes::Outcomes;
 use stride_ocp::problem::GaitProblem;
 use stride_ocp::settings::ProblemSettings;
-use stride_ocp::trajectory::{Outcomes, Trajectory};
+use stride_ocp::trajectory::Trajectory;
 use stride_solve::solver::{IterationRecord, SolverOptions};
 
 /// The summary written to `summary.json`.
