@@ -336,13 +336,6 @@ impl Store {
         self.cases_dir().join(name)
     }
 
-    /// A fresh staging folder for a case in flight (`cases/.<name>.partial-<host>-<pid>`), into
-    /// which the case's result files are written once.
-    pub fn temp_dir(&self, name: &str) -> Result<PathBuf, StoreError> {
-        let dst = self.case_dir(name);
-        result_dir::stage(&dst, "partial", ResultKind::Prediction).map_err(|e| io_err(&dst, e))
-    }
-
     /// The record of a finished case (`None`: not run); an unreadable record is an error.
     pub fn record(&self, name: &str) -> Result<Option<CaseRecord>, StoreError> {
         let p = self.case_dir(name).join(CASE_RECORD);
@@ -359,13 +352,23 @@ impl Store {
             })
     }
 
-    /// Write the record into `tmp` (last) and move `tmp` to the case's final folder.
-    pub fn finish(&self, tmp: &Path, record: &CaseRecord) -> Result<(), StoreError> {
-        let p = tmp.join(CASE_RECORD);
-        let json = serde_json::to_string_pretty(record).map_err(|e| io_err(&p, e))?;
-        write_atomic(&p, json.as_bytes()).map_err(|e| io_err(&p, e))?;
-        let dst = self.case_dir(&record.name);
-        result_dir::commit(tmp, &dst).map_err(|e| io_err(&dst, e))
+    /// Write a case's folder whole ([`result_dir::write_staged`]): `run` gets a fresh
+    /// staging folder (`cases/.<name>.partial-<host>-<pid>`), writes the case's result files
+    /// into it once and returns the case's record, which is written last; the folder then
+    /// replaces the case's final folder.
+    pub fn write_case(
+        &self,
+        name: &str,
+        run: impl FnOnce(&Path) -> CaseRecord,
+    ) -> Result<(), StoreError> {
+        let dst = self.case_dir(name);
+        let io = |e| io_err(&dst, e);
+        result_dir::write_staged(&dst, "partial", ResultKind::Prediction, io, |tmp| {
+            let record = run(tmp);
+            let p = tmp.join(CASE_RECORD);
+            let json = serde_json::to_string_pretty(&record).map_err(|e| io_err(&p, e))?;
+            write_atomic(&p, json.as_bytes()).map_err(|e| io_err(&p, e))
+        })
     }
 
     /// Rewrite `index.csv` atomically: one row per case, finished or not.
