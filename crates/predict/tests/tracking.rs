@@ -138,7 +138,7 @@ fn a_window_outside_the_data_is_an_error() {
 fn a_grf_file_without_the_expected_columns_is_an_error() {
     let dir = std::env::temp_dir().join(format!("stride_track_grf_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data");
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../ocp/data");
     let grf = std::fs::read_to_string(src.join("gait_1_grf.mot")).unwrap();
     let bad = dir.join("grf.mot");
     std::fs::write(&bad, grf.replace("1_ground_force_vy", "1_ground_force_fy")).unwrap();
