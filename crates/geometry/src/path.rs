@@ -11,7 +11,7 @@
 
 use crate::error::GeometryError;
 use crate::function::PreparedFunction;
-use crate::kinematics::{distance, BodyPoses, Kinematics, Vec3};
+use crate::kinematics::{BodyPoses, Kinematics, Vec3};
 use crate::wrap::{wrapped_length, Node, Origin, PreparedPathWrap, PreparedWrapObject};
 use crate::wrap_ellipsoid::WrapMethod;
 use stride_ad::{Dual, Scalar};
@@ -296,6 +296,12 @@ fn point_in_ground<T: Scalar>(p: &PreparedPoint, q: &[T], poses: &BodyPoses<T>) 
         }
     };
     Some(poses.point_in_ground(p.body, &local))
+}
+
+/// Euclidean distance [m] between two points.
+pub(crate) fn distance<T: Scalar>(a: &Vec3<T>, b: &Vec3<T>) -> T {
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
 }
 
 /// Path geometry of a whole model on `f64`, with preallocated workspaces.

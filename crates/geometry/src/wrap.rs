@@ -13,7 +13,8 @@
 //! and of the surface paths between the two tangent points of each wrap.
 
 use crate::error::GeometryError;
-use crate::kinematics::{distance, offset_transform, BodyPoses, Mat3, Vec3};
+use crate::kinematics::{offset_transform, BodyPoses, Mat3, Vec3};
+use crate::path::distance;
 use crate::wrap_ellipsoid::{wrap_ellipsoid, WrapMethod};
 use crate::wrap_shapes::{values, wrap_cylinder, wrap_sphere, SurfacePath, WrapAction};
 use stride_ad::Scalar;
