@@ -8,10 +8,9 @@ use clap::{Args, Subcommand};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
-use std::time::Instant;
-use stride_ocp::predict;
+use std::process::Command;
 use stride_ocp::settings::ProblemSettings;
+use stride_predict::predict;
 use stride_solve::bench::{self as solver_bench, SolveCase};
 
 /// The benchmarks of `stride bench`.
@@ -287,8 +286,8 @@ fn derivatives(a: DerivativesArgs) -> anyhow::Result<()> {
     };
     let threads: Vec<usize> = if all == 1 { vec![1] } else { vec![1, all] };
     let model = stride_model::default_model::default_model();
-    let b = stride_ocp::bench::derivatives(&model, &settings, a.reps, &threads)?;
-    print!("{}", stride_ocp::bench::derivatives_table(&b));
+    let b = crate::bench_nlp::derivatives(&model, &settings, a.reps, &threads)?;
+    print!("{}", crate::bench_nlp::derivatives_table(&b));
     Ok(())
 }
 
@@ -298,8 +297,8 @@ fn kkt(a: KktArgs) -> anyhow::Result<()> {
         bail!("--reps 0: at least one repetition is needed");
     }
     let model = stride_model::default_model::default_model();
-    let b = stride_ocp::bench::kkt(&model, &settings, a.reps)?;
-    print!("{}", stride_ocp::bench::kkt_table(&b));
+    let b = crate::bench_nlp::kkt(&model, &settings, a.reps)?;
+    print!("{}", crate::bench_nlp::kkt_table(&b));
     Ok(())
 }
 
@@ -387,7 +386,7 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
         if let Some(c) = &a.config {
             cmd.arg("--config").arg(c);
         }
-        let (report, process_s) = run_child::<CaseReport>(&mut cmd)?;
+        let (report, process_s) = crate::bench_child::run_child::<CaseReport>(&mut cmd)?;
         let lead = format!("| {} | {} | {} |", c.backend, c.hessian, c.guess);
         match report {
             Ok(r) => {
@@ -415,51 +414,6 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
         std::io::stdout().flush()?;
     }
     Ok(())
-}
-
-/// Runs a benchmark's child process `cmd`: its report (the last JSON line of its output),
-/// or why there is none (exit status and last line of its error output, `|` replaced so
-/// that it fits a table cell), and its wall time [s].
-pub(crate) fn run_child<T: serde::de::DeserializeOwned>(
-    cmd: &mut Command,
-) -> anyhow::Result<(Result<T, String>, f64)> {
-    let t = Instant::now();
-    let out = cmd
-        .stdin(Stdio::null())
-        .output()
-        .context("running the stride executable")?;
-    let process_s = t.elapsed().as_secs_f64();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let report = stdout
-        .lines()
-        .rev()
-        .find(|l| l.starts_with('{'))
-        .and_then(|l| serde_json::from_str::<T>(l).ok());
-    Ok(match report {
-        Some(r) if out.status.success() => (Ok(r), process_s),
-        _ => {
-            let stderr = String::from_utf8_lossy(&out.stderr);
-            let why = stderr
-                .lines()
-                .rev()
-                .find(|l| !l.trim().is_empty())
-                .unwrap_or("no output")
-                .replace('|', "/");
-            (Err(format!("failed ({}): {why}", out.status)), process_s)
-        }
-    })
-}
-
-/// Resident-set high-water mark of this process [KiB] (`VmHWM` of /proc/self/status).
-pub(crate) fn peak_rss_kib() -> Option<u64> {
-    if !cfg!(target_os = "linux") {
-        return None;
-    }
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
 }
 
 fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
@@ -492,7 +446,7 @@ fn predict_one(a: PredictOneArgs) -> anyhow::Result<()> {
         time_linear_solver_s: r.reported_linear_solver_time().map(|d| d.as_secs_f64()),
         time_factorisation_s: s.report.time_factorisation_s,
         time_solves_s: s.report.time_solves_s,
-        peak_rss_kib: peak_rss_kib(),
+        peak_rss_kib: crate::bench_child::peak_rss_kib(),
         presolve: s
             .report
             .presolve

@@ -116,7 +116,7 @@ pub fn run(a: TrackBenchArgs) -> anyhow::Result<()> {
 
 /// Runs one case's child process and formats its table row.
 fn case_row(hessian: &str, mut cmd: Command) -> anyhow::Result<String> {
-    let (report, process_s) = crate::bench_cmd::run_child::<TrackReport>(&mut cmd)?;
+    let (report, process_s) = crate::bench_child::run_child::<TrackReport>(&mut cmd)?;
     let f2 = |v: f64| format!("{v:.2}");
     Ok(match report {
         Ok(r) => format!(
@@ -184,7 +184,7 @@ pub fn run_one(a: TrackOneArgs) -> anyhow::Result<()> {
         time_linear_solver_s: r.time_linear_solver.as_secs_f64(),
         time_factorisation_s: r.time_factorisation.as_secs_f64(),
         cpu_s: cpu_seconds(),
-        peak_rss_kib: crate::bench_cmd::peak_rss_kib(),
+        peak_rss_kib: crate::bench_child::peak_rss_kib(),
     };
     println!("{}", serde_json::to_string(&report)?);
     Ok(())

@@ -5,10 +5,10 @@
 
 use anyhow::Context as _;
 use std::path::Path;
+use stride_files::write_atomic;
 use stride_geometry::geometry_file::{MuscleAccuracy, FORMAT};
 use stride_geometry::{content_hash, FitSettings, GeometryFile};
 use stride_model::model_settings::ModelSettings;
-use stride_model::storage::write_atomic;
 use stride_model::Model;
 
 /// File name of the built-in model's settings file, beside `subject1_v2.osim`.

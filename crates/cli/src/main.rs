@@ -1,7 +1,9 @@
 //! `stride`: predict human gait from a musculoskeletal model and a target speed.
 
+mod bench_child;
 mod bench_cmd;
 mod bench_geometry;
+mod bench_nlp;
 mod bench_track;
 mod build_default;
 mod data_cmd;

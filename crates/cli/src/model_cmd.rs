@@ -3,8 +3,8 @@
 use anyhow::Context as _;
 use clap::Subcommand;
 use std::path::PathBuf;
+use stride_files::write_atomic;
 use stride_model::default_model::{build_default_model, default_model, default_model_json};
-use stride_model::storage::write_atomic;
 
 /// Model subcommands.
 #[derive(Subcommand)]

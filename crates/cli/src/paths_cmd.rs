@@ -87,7 +87,7 @@ pub fn run(args: PathsArgs) -> anyhow::Result<()> {
     }
     match &args.out {
         Some(out) => {
-            stride_model::storage::write_atomic(out, csv.as_bytes())
+            stride_files::write_atomic(out, csv.as_bytes())
                 .with_context(|| format!("writing {}", out.display()))?;
             eprintln!(
                 "wrote {} ({} frames, {nm} muscles)",

@@ -5,11 +5,11 @@ use clap::Args;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-use stride_model::result_dir::{self, Existing, OutputError, ResultKind};
+use stride_files::result_dir::{self, Existing, OutputError, ResultKind};
 use stride_ocp::guess::GuessKind;
 use stride_ocp::model_defaults::ModelProblemDefaults;
-use stride_ocp::predict;
 use stride_ocp::settings::{ProblemSettings, RunSettings};
+use stride_predict::{predict, results};
 use stride_solve::solver::{HessianMode, LinearSolver, MuStrategy, Solver, SolverOptions};
 
 /// Arguments of `stride predict` (flags override the study file).
@@ -435,7 +435,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         board.finish();
     }
     let kept = predict::select(&solved);
-    let summary = predict::write_results(&problem, &solved, kept, solver.name(), &options, &out)?;
+    let summary = results::write_results(&problem, &solved, kept, solver.name(), &options, &out)?;
     if !args.no_view && kept.is_some() {
         crate::view_cmd::write_default(&out, &model)?;
     }
@@ -639,7 +639,8 @@ pub struct RewriteArgs {
 /// its `solution.json` with the current definitions (solver logs and times are kept). A
 /// folder without a kept solution is an error; every other folder is still rewritten.
 pub fn rewrite(args: RewriteArgs) -> anyhow::Result<()> {
-    use stride_ocp::solution::{rewrite_folder, Rewritten, SOLUTION_FILE};
+    use stride_predict::results::{rewrite_folder, Rewritten};
+    use stride_predict::solution::SOLUTION_FILE;
     let model = crate::model_load::load_model(args.model.as_deref(), None, None, false)?;
     let mut failed = Vec::new();
     for dir in &args.folders {

@@ -8,7 +8,7 @@ use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 use stride_ocp::guess::GuessKind;
-use stride_ocp::predict::{MeshStage, ProgressSource};
+use stride_predict::predict::{MeshStage, ProgressSource};
 use stride_solve::solver::IterationRecord;
 use time_left::{seconds_left, MeshProgress, SolvedMesh};
 

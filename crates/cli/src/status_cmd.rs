@@ -2,7 +2,7 @@
 //! alone (works on any host while a cluster array runs in the folder).
 
 use std::path::Path;
-use stride_model::claim::live_holder;
+use stride_files::claim::live_holder;
 use stride_study::spec::Study;
 use stride_study::store::{CaseStatus, Store, StoreError};
 

@@ -7,10 +7,10 @@ use clap::Args;
 use std::path::{Path, PathBuf};
 use stride_ocp::settings::RunSettings;
 use stride_solve::solver::SolverOptions;
-use stride_study::analysis;
 use stride_study::predict_runner::{
     check_cases, measures_from_solution, rewrite_case, PredictRunner, Rewritten,
 };
+use stride_study::report;
 use stride_study::runner::{run_study, RunOptions};
 use stride_study::spec;
 use stride_study::store::{lock_study, Store};
@@ -139,7 +139,16 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     };
     if args.slurm.slurm {
         let selected = |i: usize| only.as_ref().is_none_or(|m| m[i]);
-        return crate::slurm::run(&args, &study, &model, &out, &selected);
+        let request = crate::slurm::Request {
+            file: &args.file,
+            threads: args.threads,
+            max_iter: args.max_iter,
+            force: args.force,
+            retry_failed: args.retry_failed,
+            dry_run: args.dry_run,
+            slurm: &args.slurm,
+        };
+        return crate::slurm::run(&request, &study, &model, &out, &selected);
     }
     let selected = |i: usize| only.as_ref().is_none_or(|m| m[i]);
     if args.dry_run {
@@ -189,7 +198,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         return finish_cases(&store, &study, &only.unwrap_or_default(), summary.elsewhere);
     }
     let recompute = |dir: &Path| measures_from_solution(&runner.model, dir);
-    let report = analysis::report_folder_with(&out, Some(&recompute))?;
+    let report = report::report_folder_with(&out, Some(&recompute))?;
     let left_out = if summary.not_selected > 0 {
         format!(", {} not selected", summary.not_selected)
     } else {
@@ -223,7 +232,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn print_series(report: &analysis::Report) {
+fn print_series(report: &report::Report) {
     let finished = report.converged + report.failed;
     if finished > 0 {
         let mean = report.case_time_s / finished as f64;
@@ -316,7 +325,7 @@ pub fn report(args: ReportArgs) -> anyhow::Result<()> {
         rewrite_cases(&model, &study, &args.folder)?;
     }
     let recompute = |dir: &Path| measures_from_solution(&model, dir);
-    let report = analysis::report_folder_with(&args.folder, Some(&recompute))?;
+    let report = report::report_folder_with(&args.folder, Some(&recompute))?;
     println!(
         "study `{}`: {} cases, {} converged, {} failed, {} not run; {} groups selected; report {}",
         report.study,

@@ -9,7 +9,8 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::Mutex;
 use std::time::Duration;
-use stride_ocp::tracking::{output, TrackSettings, TrackingProblem};
+use stride_ocp::tracking::{TrackSettings, TrackingProblem};
+use stride_predict::track_output;
 
 /// Arguments of `stride track` (flags override the settings file).
 #[derive(Args)]
@@ -191,7 +192,7 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
     if !quiet {
         eprintln!();
     }
-    let errors = output::write_results(&tp, &r, solver.name(), &options, &out, &[])?;
+    let errors = track_output::write_results(&tp, &r, solver.name(), &options, &out, &[])?;
     println!(
         "{:?} after {} iterations, objective {:.6}, violation {:.1e}, {:.1} s",
         r.status,

@@ -61,7 +61,7 @@ fn write_page(
         stride_view::result_page(model, folder, options)?
     };
     let path = out.map_or_else(|| folder.join(VIEW_FILE), Path::to_path_buf);
-    stride_model::storage::write_atomic(&path, html.as_bytes())
+    stride_files::write_atomic(&path, html.as_bytes())
         .with_context(|| format!("writing {}", path.display()))?;
     Ok(path)
 }

@@ -167,11 +167,9 @@ impl GeometryFile {
             path: path.display().to_string(),
             what: e.to_string(),
         })?;
-        stride_model::storage::write_atomic(path, text.as_bytes()).map_err(|e| {
-            GeometryError::File {
-                path: path.display().to_string(),
-                what: e.to_string(),
-            }
+        stride_files::write_atomic(path, text.as_bytes()).map_err(|e| GeometryError::File {
+            path: path.display().to_string(),
+            what: e.to_string(),
         })
     }
 

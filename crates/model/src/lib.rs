@@ -3,9 +3,7 @@
 //! - [`model`]: the immutable model description (bodies, joints, coordinates, muscles,
 //!   contact spheres, actuators, passive elements, polynomial geometry).
 //! - [`osim`]: OpenSim `.osim` import.
-//! - [`storage`]: OpenSim `.mot`/`.sto` files, atomic writes, bounded reads.
-//! - [`result_dir`]: result folders (what may be written or replaced, staging, cleanup).
-//! - [`lock`]: advisory file locks naming their holder.
+//! - [`storage`]: OpenSim `.mot`/`.sto` files, bounded reads.
 //! - [`signal`]: filtering and splines for experimental data.
 //! - [`function`]: coordinate functions (linear, splines, ...) generic over the scalar.
 //! - [`reference`]: loaders of the paper's reference tables.
@@ -14,16 +12,13 @@
 //! - [`inspect`]: human-readable tables of a model.
 //! - [`shipped`]: the models shipped with stride, usable by name.
 
-pub mod claim;
 pub mod default_model;
 pub mod function;
 pub mod inspect;
-pub mod lock;
 pub mod model;
 pub mod model_settings;
 pub mod osim;
 pub mod reference;
-pub mod result_dir;
 pub mod shipped;
 pub mod signal;
 pub mod storage;

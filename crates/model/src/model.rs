@@ -62,7 +62,7 @@ pub struct Model {
     /// Bounds on the horizontal distances between body origins that a gait problem keeps
     /// (anti-clipping constraints, from the model's settings file).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub distance_constraints: Vec<crate::model_settings::DistanceConstraint>,
+    pub distance_constraints: Vec<DistanceConstraint>,
 }
 
 /// A rigid body.
@@ -687,4 +687,21 @@ impl Model {
     pub fn joint_of_body(&self, body: BodyId) -> Option<usize> {
         self.joints.iter().position(|j| j.child == body)
     }
+}
+
+/// Keep two body origins apart in the horizontal (ground x–z) plane.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DistanceConstraint {
+    /// The two bodies whose origins are kept apart.
+    pub bodies: [String; 2],
+    /// Minimum distance [m].
+    pub min: f64,
+    /// Maximum distance [m] (2 m: inactive).
+    #[serde(default = "default_max_distance")]
+    pub max: f64,
+}
+
+fn default_max_distance() -> f64 {
+    2.0
 }

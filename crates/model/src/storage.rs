@@ -5,8 +5,8 @@
 //! style), one line of column labels, and numeric rows separated by tabs or spaces.
 //! Values may be `nan`/`NaN`/`inf`.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use stride_files::write_atomic;
 
 /// Errors reading or writing a storage file; every variant names the file (and line).
 #[derive(Debug, thiserror::Error)]
@@ -312,40 +312,6 @@ fn too_large(size: u64, limit: u64) -> std::io::Error {
             limit >> 20
         ),
     )
-}
-
-/// Write `bytes` to `path` atomically: write a temporary file in the same folder, then
-/// rename it over `path`, so readers never see a half-written result file.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| {
-            std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                format!("{}: not a file path", path.display()),
-            )
-        })?
-        .to_string_lossy()
-        .into_owned();
-    let tmp = dir.join(format!(
-        ".{file_name}.tmp-{}",
-        crate::result_dir::owner_tag()
-    ));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }
 
 #[cfg(test)]

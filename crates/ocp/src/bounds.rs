@@ -8,28 +8,9 @@
 
 use crate::experimental::Kinematics;
 use crate::gait::{side_of, GaitModel};
-use crate::settings::ProblemSettings;
-
-/// Lower and upper bound of one quantity (physical units).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Range {
-    /// Lower bound.
-    pub lo: f64,
-    /// Upper bound.
-    pub hi: f64,
-}
-
-impl Range {
-    /// Scale factor max(|lo|, |hi|) (1 when both are 0).
-    pub fn scale(&self) -> f64 {
-        let s = self.lo.abs().max(self.hi.abs());
-        if s > 0.0 {
-            s
-        } else {
-            1.0
-        }
-    }
-}
+use crate::range::Range;
+use crate::settings::{CycleKind, ProblemSettings};
+use stride_model::storage::Storage;
 
 /// Bounds of the coordinate-related variables, in problem coordinate order.
 #[derive(Clone, Debug)]
@@ -159,5 +140,14 @@ impl CoordinateBounds {
         if running {
             self.v[tx].hi = 4.0;
         }
+    }
+}
+
+/// Experimental kinematics that define the bounds of a problem with `settings`: the
+/// walking half cycle, or the full cycle for a full-cycle problem.
+pub fn bounds_data(settings: &ProblemSettings) -> Storage {
+    match settings.cycle {
+        CycleKind::HalfSymmetric => crate::data::walking_half_cycle(),
+        CycleKind::FullPeriodic => crate::data::walking_full_cycle(),
     }
 }

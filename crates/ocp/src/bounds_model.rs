@@ -3,8 +3,8 @@
 //! coordinate's range in the model file for the position, ±10 ranges per second for the
 //! speed and ±155 ranges per second² for the acceleration.
 
-use crate::bounds::Range;
 use crate::gait::side_of;
+use crate::range::Range;
 
 /// One row of PredSim's `Default_Coordinate_Bounds.csv`: base name, then (lower, upper)
 /// of position [rad or m], speed [rad s⁻¹ or m s⁻¹] and acceleration [rad s⁻² or m s⁻²].

@@ -9,7 +9,8 @@
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
-use stride_model::storage::{write_atomic, Storage};
+use stride_files::write_atomic;
+use stride_model::storage::Storage;
 
 const WALKING_HALF: &str = include_str!("../data/ik_walking_half_cycle.mot");
 const RUNNING_HALF: &str = include_str!("../data/ik_running_half_cycle.mot");

@@ -626,7 +626,7 @@ mod continuation_tests {
         GaitProblem::new(
             &stride_model::default_model::default_model(),
             &settings,
-            &crate::predict::bounds_data(&settings),
+            &crate::bounds::bounds_data(&settings),
         )
         .unwrap()
     }
@@ -658,7 +658,7 @@ mod continuation_tests {
             GaitProblem::new(
                 &stride_model::default_model::default_model(),
                 &s,
-                &crate::predict::bounds_data(&s),
+                &crate::bounds::bounds_data(&s),
             )
             .unwrap()
         };

@@ -9,7 +9,7 @@
 //! part is a constant plus a coefficient times h = t_f / N, except the ∂/∂t_f entry of each row with h-terms (the sum of those
 //! terms' coefficients times their variables over N).
 
-use crate::transcription::{LinearRow, Term};
+use crate::linear_rows::{LinearRow, Term};
 use rayon::prelude::*;
 
 /// Entries written per parallel task of the streaming passes.

@@ -9,35 +9,35 @@
 //! - [`layout`]: the NLP variable layout.
 //! - [`contact_geometry`]: contact-sphere geometry files (calibrated spheres).
 //! - [`statics`]: static parameters (constant over time) appended to the NLP vector.
-//! - [`outputs`]: the files of a result folder (OpenSim files, tables).
+//! - [`outcomes`]: outcome measures of a predicted gait cycle.
 //! - [`measures`]: trunk sway and stance measures compared between conditions.
-//! - [`bench`]: timing of the NLP derivatives (`stride bench derivatives`).
+//! - [`threads`]: the worker threads of a solve.
 
-pub mod bench;
 pub mod bounds;
 pub mod bounds_model;
 pub mod contact_geometry;
 pub mod data;
 pub mod experimental;
-pub mod figures;
 pub mod gait;
 pub mod guess;
 mod jacobian_fill;
 pub mod layout;
 pub mod ligaments;
+mod linear_rows;
 pub mod measures;
 pub mod model_defaults;
 pub mod node;
-pub mod outputs;
+pub mod outcomes;
 pub mod passive_rules;
-pub mod predict;
 pub mod problem;
 pub mod radau;
+pub mod range;
 pub mod settings;
 pub mod size;
-pub mod solution;
 pub mod statics;
 pub mod tape_node;
+pub mod threads;
 pub mod tracking;
+pub mod tracking_terms;
 pub mod trajectory;
 pub mod transcription;

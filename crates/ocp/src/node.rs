@@ -81,7 +81,7 @@ pub struct NodeModel {
     activation: ActivationDynamics,
     /// Tracking terms: the cost tracks measured data given as constant inputs after the
     /// variable inputs, and the root residuals equal measured values (`None`: prediction).
-    tracking: Option<crate::tracking::TrackingTerms>,
+    tracking: Option<crate::tracking_terms::TrackingTerms>,
     /// Static parameters: inputs after the variable inputs (before the tracking
     /// constants), scaled as NLP variables.
     statics: crate::statics::StaticParameters,
@@ -311,7 +311,7 @@ impl NodeModel {
 
     /// The node function of a tracking problem: the same model, with the cost and root
     /// residual targets of `terms`.
-    pub fn with_tracking(mut self, terms: crate::tracking::TrackingTerms) -> Self {
+    pub fn with_tracking(mut self, terms: crate::tracking_terms::TrackingTerms) -> Self {
         self.tracking = Some(terms);
         self
     }
@@ -559,7 +559,7 @@ impl NodeModel {
         }
         if let Some(t) = &self.tracking {
             let slack = (sum_da2 / nm as f64 + sum_df2 / nm as f64) * t.weights.slack_controls;
-            let tracked = crate::tracking::TrackedModel {
+            let tracked = crate::tracking_terms::TrackedModel {
                 x,
                 data: &x[self.data_offset()..],
                 q_offset: io.q(),

@@ -374,7 +374,7 @@ mod tests {
                 contact_friction_smoothing: eps,
                 ..Default::default()
             };
-            let p = GaitProblem::new(&model, &settings, &crate::predict::bounds_data(&settings))
+            let p = GaitProblem::new(&model, &settings, &crate::bounds::bounds_data(&settings))
                 .unwrap();
             assert_eq!(p.model.contacts.len(), 12);
             for c in &p.model.contacts {
@@ -425,7 +425,7 @@ mod tests {
         };
         let model = stride_model::default_model::default_model();
         let p =
-            GaitProblem::new(&model, &settings, &crate::predict::bounds_data(&settings)).unwrap();
+            GaitProblem::new(&model, &settings, &crate::bounds::bounds_data(&settings)).unwrap();
         (model, settings, p)
     }
 

@@ -2,7 +2,7 @@
 //! linearly with the mesh, so two tiny meshes give it exactly) and an estimate of the peak
 //! memory of one solve, so that a mesh that cannot fit is refused before any allocation.
 
-use crate::predict::bounds_data;
+use crate::bounds::bounds_data;
 use crate::problem::{GaitProblem, ProblemError};
 use crate::settings::ProblemSettings;
 use stride_model::Model;

@@ -9,6 +9,7 @@
 
 use crate::jacobian_fill::JacobianFill;
 use crate::layout::{Layout, Point};
+use crate::linear_rows::{LinearRow, Term};
 use crate::problem::{GaitProblem, TAU_ARM};
 use crate::radau;
 use rayon::prelude::*;
@@ -239,21 +240,6 @@ impl HessianBuilder {
         self.index.insert(key, p);
         p
     }
-}
-
-/// One entry of a linear or bilinear constraint: `coef · x[var]`, optionally times t_f/N.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Term {
-    pub(crate) var: usize,
-    pub(crate) coef: f64,
-    pub(crate) times_h: bool,
-}
-
-/// A constraint row that is a sum of terms (collocation, continuity, symmetry).
-#[derive(Clone, Debug)]
-pub(crate) struct LinearRow {
-    pub(crate) row: usize,
-    pub(crate) terms: Vec<Term>,
 }
 
 /// Cached node evaluations at the last point.

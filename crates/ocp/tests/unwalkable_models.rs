@@ -58,7 +58,7 @@ fn a_distance_constraint_naming_a_missing_body() {
         }]),
         ..Default::default()
     };
-    let data = stride_ocp::predict::bounds_data(&settings);
+    let data = stride_ocp::bounds::bounds_data(&settings);
     let e = GaitProblem::new(&m, &settings, &data)
         .and_then(|p| stride_ocp::node::NodeModel::new(&p).map(|_| ()))
         .expect_err("the constraint should be rejected")

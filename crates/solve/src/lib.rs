@@ -6,6 +6,7 @@
 //! - [`ipm`]: stride's own pure-Rust interior-point method.
 //! - [`problems`]: test problems with known solutions.
 //! - [`backends`]: other solver backends (ripopt, system IPOPT behind the `ipopt` feature).
+//! - [`pivots`]: the inertia of a factorised symmetric matrix.
 //! - [`bench`]: solver benchmarks on the pendulum-chain collocation problem (markdown tables).
 
 pub mod backends;
@@ -13,5 +14,6 @@ pub mod bench;
 pub mod ipm;
 pub mod nlp;
 pub mod observer;
+pub mod pivots;
 pub mod problems;
 pub mod solver;

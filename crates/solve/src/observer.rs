@@ -8,8 +8,103 @@
 use std::fmt;
 use std::time::Duration;
 
-use crate::ipm::linsys::Inertia;
-use crate::solver::{ControlFlow, IterationRecord, SolveStatus};
+use crate::pivots::Inertia;
+use serde::{Deserialize, Serialize};
+use std::ops::ControlFlow as StdControlFlow;
+
+/// What the observer callback tells the solver after each iteration.
+pub type ControlFlow = StdControlFlow<()>;
+
+/// How a solve ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum SolveStatus {
+    /// Converged to `tol`.
+    Optimal,
+    /// Converged to the acceptable level `acceptable_tol` for `acceptable_iter` iterations.
+    Acceptable,
+    /// Hit `max_iter`.
+    MaxIterations,
+    /// Hit `time_limit`.
+    TimeLimit,
+    /// Converged to a point of locally minimal constraint violation that is infeasible.
+    Infeasible,
+    /// The observer asked to stop.
+    Interrupted,
+    /// The step became too small to make progress.
+    SmallStep,
+    /// Iterates diverged (|x| huge) — problem probably unbounded.
+    Diverging,
+    /// Any other failure, with a reason.
+    Failed(String),
+    /// μ reached its floor with the limited-memory Hessian and the solve stopped there, as
+    /// asked (`SolverOptions::stop_at_mu_floor`): near an optimum, not converged to `tol`.
+    MuFloor,
+}
+
+impl SolveStatus {
+    /// Whether the status counts as converged (Optimal or Acceptable).
+    pub fn is_success(&self) -> bool {
+        matches!(self, SolveStatus::Optimal | SolveStatus::Acceptable)
+    }
+
+    /// Whether the point is good enough to start a finer or neighbouring problem from
+    /// (converged, or stopped at the μ floor on request).
+    pub fn is_usable_start(&self) -> bool {
+        self.is_success() || matches!(self, SolveStatus::MuFloor)
+    }
+}
+
+/// One line of the iteration log (in the units of the unscaled problem unless noted).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct IterationRecord {
+    /// Iteration number (0 = initial point).
+    pub iter: usize,
+    /// Objective value f(x).
+    pub objective: f64,
+    /// Primal infeasibility: max constraint (incl. slack) violation.
+    pub inf_pr: f64,
+    /// Dual infeasibility: max-norm of the Lagrangian gradient (scaled problem).
+    pub inf_du: f64,
+    /// Barrier parameter μ.
+    pub mu: f64,
+    /// Max-norm of the primal step.
+    pub step_norm: f64,
+    /// Primal step length.
+    pub alpha_pr: f64,
+    /// Dual step length.
+    pub alpha_du: f64,
+    /// Hessian regularisation δ_w added for inertia correction (0 if none).
+    pub regularisation: f64,
+    /// Number of line-search trial points.
+    pub ls_trials: usize,
+    /// Numeric factorisations of the KKT matrix in the iteration that led here (inertia
+    /// corrections included; 0 where the backend does not report them).
+    #[serde(default)]
+    pub factorisations: usize,
+    /// Wall-clock time since the solve started.
+    pub elapsed: Duration,
+}
+
+impl IterationRecord {
+    /// The record as one line of an iteration table: iteration, objective, primal and dual
+    /// infeasibility, μ, step norm, primal and dual step sizes, regularisation, line-search
+    /// trials.
+    pub fn table_line(&self) -> String {
+        format!(
+            "{:5} {:+.8e} {:.2e} {:.2e} {:.1e} {:.2e} {:.2e} {:.2e} {:.1e} {}",
+            self.iter,
+            self.objective,
+            self.inf_pr,
+            self.inf_du,
+            self.mu,
+            self.step_norm,
+            self.alpha_pr,
+            self.alpha_du,
+            self.regularisation,
+            self.ls_trials
+        )
+    }
+}
 
 /// Receives the progress of a solve.
 pub trait Observer {

@@ -12,7 +12,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
-use stride_model::storage::write_atomic;
+use stride_files::write_atomic;
 use stride_ocp::measures::{ConditionMeasures, LegMeasures};
 use stride_ocp::settings::ProblemSettings;
 use stride_plot::{Color, Figure, LegendEntry, Panel, Series};

@@ -7,7 +7,7 @@
 use crate::analysis::{literature_stride_frequency, Fit, SpeedSeries};
 use crate::store::{io_err, StoreError};
 use std::path::Path;
-use stride_model::storage::write_atomic;
+use stride_files::write_atomic;
 use stride_plot::{Color, Figure, LegendEntry, Panel, Series};
 
 /// Resolution factor of the PNG relative to the SVG size.
@@ -28,7 +28,7 @@ pub(crate) fn cycle_column(path: &Path, column: &str) -> Option<(Vec<f64>, Vec<f
     let header: Vec<&str> = lines.next()?.split(',').collect();
     let c = header
         .iter()
-        .position(|h| stride_ocp::outputs::column_name(h) == column)?;
+        .position(|h| stride_predict::outputs::column_name(h) == column)?;
     let (mut t, mut y) = (Vec::new(), Vec::new());
     for l in lines.filter(|l| !l.trim().is_empty()) {
         let f: Vec<&str> = l.split(',').collect();

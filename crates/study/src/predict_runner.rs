@@ -9,17 +9,20 @@ use crate::spec::{Case, CaseGuess};
 use crate::store::{CaseOutcome, Metrics};
 use std::path::Path;
 use stride_model::Model;
+use stride_ocp::bounds::bounds_data;
 use stride_ocp::guess::ContinuationKind;
 use stride_ocp::measures::ConditionMeasures;
 use stride_ocp::node::NodeModel;
-use stride_ocp::predict::{self, GuessReport, Solved, Stage};
 use stride_ocp::problem::{GaitProblem, GRAVITY};
+use stride_predict::predict::{self, GuessReport, Solved, Stage};
+use stride_predict::results;
 use stride_solve::solver::{IterationRecord, Solver, SolverOptions};
 
-use stride_ocp::solution::{read_solution, solution_problem, write_solution};
-pub use stride_ocp::solution::{Rewritten, SolutionFile, SOLUTION_FILE};
+pub use stride_predict::results::Rewritten;
+use stride_predict::solution::{read_solution, solution_problem, write_solution};
+pub use stride_predict::solution::{SolutionFile, SOLUTION_FILE};
 
-/// Runs cases with `stride_ocp::predict` and a solver backend.
+/// Runs cases with `stride_predict::predict` and a solver backend.
 pub struct PredictRunner {
     /// Musculoskeletal model.
     pub model: Model,
@@ -48,12 +51,8 @@ impl PredictRunner {
     ) -> Result<Vec<f64>, String> {
         match kind {
             ContinuationKind::FullSolution => {
-                let src = GaitProblem::new(
-                    &self.model,
-                    &sol.settings,
-                    &predict::bounds_data(&sol.settings),
-                )
-                .map_err(err)?;
+                let src = GaitProblem::new(&self.model, &sol.settings, &bounds_data(&sol.settings))
+                    .map_err(err)?;
                 problem.guess_from_full_solution(&src, &sol.x).map_err(err)
             }
             ContinuationKind::PartialSolution => partial_solution_guess(problem, sol),
@@ -130,12 +129,9 @@ impl CaseRunner for PredictRunner {
             )
             .map_err(err)?,
             CaseGuess::Continuation(kind) => {
-                let problem = GaitProblem::new(
-                    &self.model,
-                    &case.settings,
-                    &predict::bounds_data(&case.settings),
-                )
-                .map_err(err)?;
+                let problem =
+                    GaitProblem::new(&self.model, &case.settings, &bounds_data(&case.settings))
+                        .map_err(err)?;
                 let src = source.ok_or("continuation guess without a source case")?;
                 let sol = read_solution(src).map_err(err)?;
                 let x0 = self.continuation_guess(&problem, kind, &sol)?;
@@ -188,7 +184,7 @@ impl CaseRunner for PredictRunner {
         };
         let kept = predict::select(&solved);
         let summary =
-            predict::write_results_into(&problem, &solved, kept, self.solver.name(), &options, dir)
+            results::write_results_into(&problem, &solved, kept, self.solver.name(), &options, dir)
                 .map_err(err)?;
         let s = &solved[0];
         let mut outcome = CaseOutcome {
@@ -242,9 +238,9 @@ pub fn measures_from_solution(model: &Model, dir: &Path) -> Result<ConditionMeas
 }
 
 /// Rewrite a finished case folder from its solution with the current definitions
-/// ([`stride_ocp::solution::rewrite_folder`]).
+/// ([`stride_predict::results::rewrite_folder`]).
 pub fn rewrite_case(model: &Model, dir: &Path) -> Result<Rewritten, String> {
-    stride_ocp::solution::rewrite_folder(model, dir).map_err(err)
+    stride_predict::results::rewrite_folder(model, dir).map_err(err)
 }
 
 /// Build every case's problem once (model changes, bounds) and check the presolve mesh
@@ -257,7 +253,7 @@ pub fn check_cases(
     presolve_mesh: Option<usize>,
 ) -> Result<(), String> {
     for c in cases {
-        GaitProblem::new(model, &c.settings, &predict::bounds_data(&c.settings))
+        GaitProblem::new(model, &c.settings, &bounds_data(&c.settings))
             .map_err(|e| format!("case `{}`: {e}", c.name))?;
         if is_presolved(c.guess) {
             predict::presolve_for(presolve_mesh, &c.settings)

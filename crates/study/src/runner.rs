@@ -232,6 +232,40 @@ fn next_ready(sh: &Shared, cases: &[Case]) -> Option<usize> {
         .min_by_key(|&i| (std::cmp::Reverse(sh.chain[i]), i))
 }
 
+/// Runs case `i` of `cases` into its staging folder `tmp`, from the folder of its source
+/// case when it continues one, counting its iterations in `shared`; a panic of the runner
+/// becomes the case's error.
+fn run_case(
+    cases: &[Case],
+    i: usize,
+    source: Option<usize>,
+    store: &Store,
+    runner: &dyn CaseRunner,
+    shared: &Mutex<Shared>,
+    tmp: &Path,
+) -> Result<CaseOutcome, String> {
+    let case = &cases[i];
+    if case.guess.is_continuation() && source.is_none() {
+        let candidates: Vec<&str> = case
+            .sources
+            .iter()
+            .map(|&s| cases[s].name.as_str())
+            .collect();
+        return Err(format!(
+            "no converged solution to continue from (candidates: {})",
+            candidates.join(", ")
+        ));
+    }
+    let src_dir = source.map(|s| store.case_dir(&cases[s].name));
+    let progress = |iter: usize| {
+        shared.lock().unwrap_or_else(|e| e.into_inner()).iterations[i] = iter;
+    };
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        runner.run(case, src_dir.as_deref(), tmp, &progress)
+    }))
+    .unwrap_or_else(|p| Err(format!("panic: {}", panic_text(p))))
+}
+
 fn worker(
     study: &Study,
     store: &Store,
@@ -274,36 +308,25 @@ fn worker(
             continue;
         };
         let start = Instant::now();
-        let tmp = store.temp_dir(&case.name);
-        let outcome: Result<CaseOutcome, String> = match &tmp {
-            Err(e) => Err(e.to_string()),
-            Ok(_) if case.guess.is_continuation() && source.is_none() => Err(format!(
-                "no converged solution to continue from (candidates: {})",
-                case.sources
-                    .iter()
-                    .map(|&s| cases[s].name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )),
-            Ok(tmp) => {
-                let src_dir = source.map(|s| store.case_dir(&cases[s].name));
-                let progress = |iter: usize| {
-                    shared.lock().unwrap_or_else(|e| e.into_inner()).iterations[i] = iter;
-                };
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    runner.run(case, src_dir.as_deref(), tmp, &progress)
-                }))
-                .unwrap_or_else(|p| Err(format!("panic: {}", panic_text(p))))
-            }
-        };
+        let continued_from = source.map(|s| cases[s].name.clone());
+        let mut written = None;
+        let finish = store.write_case(&case.name, |tmp| {
+            let outcome = run_case(cases, i, source, store, runner, shared, tmp);
+            let record = make_record(case, continued_from.clone(), outcome, start.elapsed());
+            written = Some(record.clone());
+            record
+        });
         let elapsed = start.elapsed();
-        let record = make_record(
-            case,
-            source.map(|s| cases[s].name.clone()),
-            outcome,
-            elapsed,
-        );
-        let finish = tmp.and_then(|tmp| store.finish(&tmp, &record));
+        // a case that could not be staged has the staging error as its reason
+        let record = written.unwrap_or_else(|| {
+            let reason = finish.as_ref().err().map(ToString::to_string);
+            make_record(
+                case,
+                continued_from,
+                Err(reason.unwrap_or_default()),
+                elapsed,
+            )
+        });
         let mut sh = shared.lock().unwrap_or_else(|e| e.into_inner());
         sh.running -= 1;
         sh.started[i] = None;
@@ -340,7 +363,7 @@ fn claim_case(
     i: usize,
     shared: &Mutex<Shared>,
     wake: &Condvar,
-) -> Option<stride_model::claim::Claim> {
+) -> Option<stride_files::claim::Claim> {
     let claimed = store.claim(&cases[i].name).and_then(|c| {
         let record = store.record(&cases[i].name)?;
         Ok((c, record))

@@ -8,10 +8,10 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use stride_model::claim::{Claim, ClaimError, Holder};
-use stride_model::lock::{FileLock, LockError, LockMode};
-use stride_model::result_dir::{self, OutputError, ResultKind};
-use stride_model::storage::write_atomic;
+use stride_files::claim::{Claim, ClaimError, Holder};
+use stride_files::lock::{FileLock, LockError, LockMode};
+use stride_files::result_dir::{self, OutputError, ResultKind};
+use stride_files::write_atomic;
 
 /// File marking a finished case (its record, written last inside the case folder).
 pub const CASE_RECORD: &str = "case.json";
@@ -22,7 +22,7 @@ pub const STUDY_HASH: &str = "study.hash";
 /// with a claim on the case it runs ([`Store::claim`]).
 pub const STUDY_LOCK: &str = ".lock";
 
-/// Folder of the case claim files (`<case>.lock`, [`stride_model::claim`]): a claim file
+/// Folder of the case claim files (`<case>.lock`, [`stride_files::claim`]): a claim file
 /// names the live or last process that ran the case.
 pub const CLAIMS: &str = "claims";
 
@@ -342,13 +342,6 @@ impl Store {
         self.cases_dir().join(name)
     }
 
-    /// A fresh staging folder for a case in flight (`cases/.<name>.partial-<host>-<pid>`), into
-    /// which the case's result files are written once.
-    pub fn temp_dir(&self, name: &str) -> Result<PathBuf, StoreError> {
-        let dst = self.case_dir(name);
-        result_dir::stage(&dst, "partial", ResultKind::Prediction).map_err(|e| io_err(&dst, e))
-    }
-
     /// The record of a finished case (`None`: not run); an unreadable record is an error.
     pub fn record(&self, name: &str) -> Result<Option<CaseRecord>, StoreError> {
         let p = self.case_dir(name).join(CASE_RECORD);
@@ -365,13 +358,23 @@ impl Store {
             })
     }
 
-    /// Write the record into `tmp` (last) and move `tmp` to the case's final folder.
-    pub fn finish(&self, tmp: &Path, record: &CaseRecord) -> Result<(), StoreError> {
-        let p = tmp.join(CASE_RECORD);
-        let json = serde_json::to_string_pretty(record).map_err(|e| io_err(&p, e))?;
-        write_atomic(&p, json.as_bytes()).map_err(|e| io_err(&p, e))?;
-        let dst = self.case_dir(&record.name);
-        result_dir::commit(tmp, &dst).map_err(|e| io_err(&dst, e))
+    /// Write a case's folder whole ([`result_dir::write_staged`]): `run` gets a fresh
+    /// staging folder (`cases/.<name>.partial-<host>-<pid>`), writes the case's result files
+    /// into it once and returns the case's record, which is written last; the folder then
+    /// replaces the case's final folder.
+    pub fn write_case(
+        &self,
+        name: &str,
+        run: impl FnOnce(&Path) -> CaseRecord,
+    ) -> Result<(), StoreError> {
+        let dst = self.case_dir(name);
+        let io = |e| io_err(&dst, e);
+        result_dir::write_staged(&dst, "partial", ResultKind::Prediction, io, |tmp| {
+            let record = run(tmp);
+            let p = tmp.join(CASE_RECORD);
+            let json = serde_json::to_string_pretty(&record).map_err(|e| io_err(&p, e))?;
+            write_atomic(&p, json.as_bytes()).map_err(|e| io_err(&p, e))
+        })
     }
 
     /// Rewrite `index.csv` atomically: one row per case, finished or not.

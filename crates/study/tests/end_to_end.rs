@@ -107,7 +107,7 @@ guesses = ["quasi-random", "full-os", "partial-os"]
     }
     let fos = store.record("speed_1.43__fos").unwrap().unwrap();
     assert_eq!(fos.continued_from.as_deref(), Some("speed_1.33__qr"));
-    let report = stride_study::analysis::report_folder(&out).unwrap();
+    let report = stride_study::report::report_folder(&out).unwrap();
     assert_eq!(report.cases, 4);
     // The condition measures can be recomputed from a written solution; a solution that
     // does not fit the problem of its settings is an error that says so.

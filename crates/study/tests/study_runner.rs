@@ -398,7 +398,7 @@ speed = [0.73, 0.93, 1.13, 1.33, 1.53, 1.73, 1.93, 2.13, 2.33, 2.53, 2.73]
     let study = spec::parse(text, Path::new("sweep.toml")).unwrap();
     let store = Store::open(&out, &study, false).unwrap();
     run_study(&study, &store, &Fake::new(), &opts(2)).unwrap();
-    let report = stride_study::analysis::report_folder(&out).unwrap();
+    let report = stride_study::report::report_folder(&out).unwrap();
     assert_eq!(report.cases, 22);
     // The cases' wall times add up to the report's total.
     let total: f64 = study

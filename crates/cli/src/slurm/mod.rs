@@ -65,10 +65,28 @@ fn default_mem(study: &Study, model: &stride_model::Model) -> anyhow::Result<u64
     Ok((peak * 1.5 / 1048576.0).ceil() as u64 + 512)
 }
 
+/// What `stride study FILE --slurm` was asked on the command line.
+pub struct Request<'a> {
+    /// The study file as given.
+    pub file: &'a Path,
+    /// Evaluation threads per case (`--threads`).
+    pub threads: Option<usize>,
+    /// Iteration limit per case (`--max-iter`).
+    pub max_iter: Option<usize>,
+    /// Resume into a folder made from a different study file (`--force`).
+    pub force: bool,
+    /// Submit failed cases again (`--retry-failed`).
+    pub retry_failed: bool,
+    /// Print the job scripts instead of submitting them (`--dry-run`).
+    pub dry_run: bool,
+    /// The Slurm options.
+    pub slurm: &'a SlurmArgs,
+}
+
 /// `stride study FILE --slurm [--dry-run]`: plan the waves of the unfinished selected
 /// cases, write the job scripts into `<out>/slurm/` and submit them (or print them).
 pub fn run(
-    args: &crate::study_cmd::StudyArgs,
+    args: &Request,
     study: &Study,
     model: &stride_model::Model,
     out: &Path,
@@ -76,7 +94,7 @@ pub fn run(
 ) -> anyhow::Result<()> {
     let cpus = args.threads.unwrap_or(study.header.threads_per_case);
     let defaults = (default_case_time(study), default_mem(study, model)?, cpus);
-    let settings = settings::settings(&args.slurm, &study.slurm, &args.file, defaults)?;
+    let settings = settings::settings(args.slurm, &study.slurm, args.file, defaults)?;
     let absolute = |p: &Path| -> anyhow::Result<PathBuf> {
         Ok(if p.is_absolute() {
             p.to_path_buf()
@@ -87,7 +105,7 @@ pub fn run(
     let job = Job {
         study,
         program: std::env::current_exe().context("locating the stride program")?,
-        file: absolute(&args.file)?,
+        file: absolute(args.file)?,
         out: absolute(out)?,
         retry_failed: args.retry_failed,
         max_iter: args.max_iter,
@@ -141,7 +159,7 @@ pub fn run(
     }
     std::fs::create_dir_all(&dir).with_context(|| dir.display().to_string())?;
     for (path, text) in &scripts {
-        stride_model::storage::write_atomic(path, text.as_bytes())
+        stride_files::write_atomic(path, text.as_bytes())
             .with_context(|| path.display().to_string())?;
     }
     let mut ids: Vec<String> = Vec::new();

@@ -205,22 +205,7 @@ pub struct MuscleMetabolic {
     pub specific_tension_mpa: f64,
 }
 
-/// Keep two body origins apart in the horizontal (ground x–z) plane.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DistanceConstraint {
-    /// The two bodies whose origins are kept apart.
-    pub bodies: [String; 2],
-    /// Minimum distance [m].
-    pub min: f64,
-    /// Maximum distance [m] (2 m: inactive).
-    #[serde(default = "default_max_distance")]
-    pub max: f64,
-}
-
-fn default_max_distance() -> f64 {
-    2.0
-}
+pub use crate::model::DistanceConstraint;
 
 /// A linear spring and damper on a coordinate:
 /// `τ = −stiffness (q − rest) − damping q̇` [N m or N].

@@ -5,24 +5,13 @@
 use super::functions::parse_function_in;
 use super::skeleton::Frames;
 use super::xml::{child, last_component, mul, name_of, objects, rot_xyz, tag, text};
-use super::xml::{Ctx, El};
+use super::xml::{report, Ctx, El};
 use super::OsimError;
 use crate::model::{
     ContactParameters, ContactSphere, CoordinateActuator, CoordinateForce, CoordinateForceLaw,
-    Ligament, Model, MotionType, Muscle, MuscleKind, PathPoint, PathPointKind, UnsupportedElement,
+    Ligament, Model, MotionType, Muscle, MuscleKind, PathPoint, PathPointKind,
 };
 use std::collections::HashMap;
-
-/// Record an element that was not imported.
-pub(crate) fn report(ctx: &Ctx, model: &mut Model, el: El, reason: impl Into<String>) {
-    model.unsupported.push(UnsupportedElement {
-        element: tag(el).to_string(),
-        name: name_of(el).to_string(),
-        path: ctx.path(el),
-        line: ctx.line(el),
-        reason: reason.into(),
-    });
-}
 
 /// Read the `ForceSet` (and the contact geometry it references) into `model`.
 pub(crate) fn read_forces<'a, 'i>(

@@ -173,12 +173,12 @@ fn report_other_content(ctx: &Ctx, model_el: xml::El, model: &mut Model) {
             | "JointSet" | "ForceSet" | "ContactGeometrySet" | "Ground" | "ConstraintSet" => {}
             "ComponentSet" => {
                 for o in objects(c) {
-                    forces::report(ctx, model, o, format!("{} are not supported", tag(c)));
+                    xml::report(ctx, model, o, format!("{} are not supported", tag(c)));
                 }
             }
             "components" => {
                 for o in elements(c) {
-                    forces::report(ctx, model, o, "model components are not supported");
+                    xml::report(ctx, model, o, "model components are not supported");
                 }
             }
             "MarkerSet" | "ControllerSet" | "ProbeSet" => {

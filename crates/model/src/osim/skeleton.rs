@@ -1,8 +1,8 @@
 //! Bodies, joints and coordinates of OpenSim 3.x (joints inside bodies) and 4.x
 //! (`JointSet` with offset frames) models.
 
-use super::forces::report;
 use super::functions::{is_function_tag, parse_function, parse_function_in};
+use super::xml::report;
 use super::xml::{
     child, child_text, elements, last_component, mul, name_of, objects, rot_xyz, tag, text, Ctx, El,
 };

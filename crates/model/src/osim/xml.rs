@@ -1,6 +1,7 @@
 //! Helpers over the `roxmltree` document: element paths, line numbers, typed values.
 
 use super::OsimError;
+use crate::model::{Model, UnsupportedElement};
 use roxmltree::{Document, Node};
 
 /// Reading context: the parsed document and the source name used in error messages.
@@ -204,6 +205,17 @@ pub(crate) fn mul(r: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
         r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2],
         r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2],
     ]
+}
+
+/// Record an element that was not imported.
+pub(crate) fn report(ctx: &Ctx, model: &mut Model, el: El, reason: impl Into<String>) {
+    model.unsupported.push(UnsupportedElement {
+        element: tag(el).to_string(),
+        name: name_of(el).to_string(),
+        path: ctx.path(el),
+        line: ctx.line(el),
+        reason: reason.into(),
+    });
 }
 
 #[cfg(test)]

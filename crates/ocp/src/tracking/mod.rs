@@ -4,17 +4,16 @@
 //! fixed time window (no symmetry, no speed constraint, fixed duration).
 
 pub mod calibration;
-pub mod output;
-pub mod terms;
 pub mod trial;
 
-pub use terms::{TrackedModel, TrackingTerms, TrackingWeights};
+pub use crate::tracking_terms::{TrackedModel, TrackingTerms, TrackingWeights};
 
-use crate::bounds::{CoordinateBounds, Range};
+use crate::bounds::CoordinateBounds;
 use crate::guess::{assemble, CoordinateGuess, MuscleGuess};
 use crate::layout::Point;
 use crate::node::NodeModel;
 use crate::problem::{GaitProblem, ProblemError, Scaling};
+use crate::range::Range;
 use crate::settings::{CycleKind, ProblemSettings};
 use crate::statics::StaticParameters;
 use crate::tape_node::TapeNode;
@@ -323,7 +322,7 @@ impl TrackingProblem {
                 ControlFlow::Continue(())
             })
         };
-        crate::predict::with_threads(options.threads, run)
+        crate::threads::with_threads(options.threads, run)
             .map_err(|e| TrackError::Solver(e.to_string()))?
             .map_err(|e| TrackError::Solver(e.to_string()))
     }

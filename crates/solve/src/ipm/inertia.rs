@@ -15,12 +15,13 @@ use std::time::{Duration, Instant};
 
 use crate::ipm::iterate::{Iterate, NO_SLACK};
 use crate::ipm::kkt::KktPattern;
-use crate::ipm::linsys::{Counted, Inertia, KktSolver};
+use crate::ipm::linsys::{Counted, KktSolver};
 use crate::ipm::ordering::kkt_ordering;
 use crate::ipm::refine::RefineScratch;
 use crate::ipm::scaled::ScaledNlp;
 use crate::nlp::{BlockStructure, Sparsity};
 use crate::observer::{Diagnostic, Emitter};
+use crate::pivots::Inertia;
 use crate::solver::SolveError;
 
 /// KKT diagonal of a fixed variable (x_l = x_u), which keeps its step at zero.

@@ -20,6 +20,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::SupernodalThreshold;
 
 use super::bottom::{Bottom, BOTTOM_WIDTH};
+use crate::pivots::Inertia;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 use thiserror::Error;
@@ -33,29 +34,6 @@ pub enum LinearSolverError {
     /// `factor` or `solve` called before `analyse` / `factor`.
     #[error("KKT solver used before {0}")]
     NotReady(&'static str),
-}
-
-/// Number of positive, negative and zero pivots of a factorised symmetric matrix.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Inertia {
-    /// Positive pivots.
-    pub positive: usize,
-    /// Negative pivots.
-    pub negative: usize,
-    /// Zero (or failed) pivots.
-    pub zero: usize,
-}
-
-impl Inertia {
-    /// The inertia reported for a failed factorisation of a `dim`-row matrix: every pivot
-    /// zero (singular).
-    pub fn singular(dim: usize) -> Self {
-        Inertia {
-            positive: 0,
-            negative: 0,
-            zero: dim,
-        }
-    }
 }
 
 /// A sparse symmetric linear solver for the KKT system (lower triangle, CSC).

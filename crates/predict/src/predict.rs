@@ -1,0 +1,578 @@
+//! `predict`: build the problem, solve it from several initial guesses (each first on a
+//! coarse mesh, or from a neighbouring optimum: continuation) and keep the lowest-cost
+//! converged solve. The result folder is written by [`crate::results`].
+
+use crate::error::PredictError;
+use serde::Serialize;
+use std::sync::Arc;
+use stride_model::Model;
+use stride_ocp::bounds::bounds_data;
+use stride_ocp::data;
+use stride_ocp::experimental::Kinematics;
+use stride_ocp::guess::{GuessKind, InitialGuess};
+use stride_ocp::node::NodeModel;
+use stride_ocp::problem::{GaitProblem, ProblemError};
+use stride_ocp::settings::{CycleKind, ProblemSettings};
+use stride_ocp::tape_node::TapeNode;
+use stride_ocp::threads::with_threads;
+use stride_ocp::transcription::Transcription;
+use stride_solve::solver::{
+    ControlFlow, HessianMode, IterationRecord, SolveResult, Solver, SolverOptions,
+};
+
+/// Outcome of one solve from one initial guess.
+#[derive(Clone, Debug, Serialize)]
+pub struct GuessReport {
+    /// The initial guess (standard or continuation).
+    pub guess: InitialGuess,
+    /// Solver status.
+    pub status: String,
+    /// Whether it converged.
+    pub converged: bool,
+    /// Iterations.
+    pub iterations: usize,
+    /// Final objective.
+    pub objective: f64,
+    /// Final constraint violation.
+    pub constraint_violation: f64,
+    /// Wall time [s].
+    pub time_total_s: f64,
+    /// Time in function evaluations [s].
+    pub time_evaluations_s: f64,
+    /// Time in the solver itself [s].
+    pub time_solver_s: f64,
+    /// Time in the KKT factorisations and solves, part of the solver time [s] (absent when
+    /// the backend does not report it).
+    pub time_linear_solver_s: Option<f64>,
+    /// Time in the numeric KKT factorisations, part of the linear-solver time [s] (absent
+    /// when the backend does not report it).
+    pub time_factorisation_s: Option<f64>,
+    /// Time in the triangular solves with the KKT factor, part of the linear-solver time
+    /// [s] (absent when the backend does not report it).
+    pub time_solves_s: Option<f64>,
+    /// Iteration from which the exact Hessian replaced the limited-memory one (hybrid
+    /// mode); absent when it never did.
+    pub exact_hessian_from: Option<usize>,
+    /// The coarse-mesh solve this guess started from (absent without a presolve).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub presolve: Option<PresolveReport>,
+}
+
+impl GuessReport {
+    /// The report of a finished solve from `guess`.
+    pub fn new(guess: impl Into<InitialGuess>, r: &SolveResult) -> Self {
+        GuessReport {
+            guess: guess.into(),
+            status: format!("{:?}", r.status),
+            converged: r.status.is_success(),
+            iterations: r.iterations,
+            objective: r.objective,
+            constraint_violation: r.constraint_violation,
+            time_total_s: r.time_total.as_secs_f64(),
+            time_evaluations_s: r.time_evaluations.as_secs_f64(),
+            time_solver_s: r
+                .time_total
+                .saturating_sub(r.time_evaluations)
+                .as_secs_f64(),
+            time_linear_solver_s: r.reported_linear_solver_time().map(|t| t.as_secs_f64()),
+            time_factorisation_s: (!r.time_factorisation.is_zero())
+                .then_some(r.time_factorisation.as_secs_f64()),
+            time_solves_s: (r.solves > 0).then_some(r.time_solves.as_secs_f64()),
+            exact_hessian_from: r.exact_hessian_from,
+            presolve: None,
+        }
+    }
+}
+
+/// One solved guess with its solution.
+pub struct Solved {
+    /// Report.
+    pub report: GuessReport,
+    /// Solver result (solution vector and log).
+    pub result: SolveResult,
+}
+
+/// The scaled NLP vector of initial guess `g` for `problem`; data-informed guesses follow
+/// the experimental kinematics of their gait (walking: the bounds data, running: the
+/// running half cycle).
+pub fn guess_point(problem: &GaitProblem, g: GuessKind) -> Result<Vec<f64>, PredictError> {
+    let storage = match g {
+        GuessKind::DataInformedRunning => Some(data::running_half_cycle()),
+        GuessKind::DataInformedWalking => Some(bounds_data(&problem.settings)),
+        GuessKind::QuasiRandom => None,
+    };
+    let kin = storage
+        .map(|s| Kinematics::matching(&s, &problem.gait, "guess kinematics"))
+        .transpose()
+        .map_err(ProblemError::from)?;
+    Ok(problem.initial_guess(g, kin.as_ref())?)
+}
+
+/// The transcribed NLP of `model` with `settings` as [`solve_guesses`] builds it (node
+/// function recorded on a tape), starting from initial guess `g`.
+pub fn transcribe(
+    model: &Model,
+    settings: &ProblemSettings,
+    g: GuessKind,
+) -> Result<Transcription<TapeNode>, PredictError> {
+    let problem = GaitProblem::new(model, settings, &bounds_data(settings))?;
+    let node = NodeModel::new(&problem)?;
+    let x0 = guess_point(&problem, g)?;
+    let tape = TapeNode::for_problem(&problem, &node, &x0)?;
+    Ok(Transcription::new(problem, tape, x0))
+}
+
+/// Initial barrier parameter of a solve that starts from an optimum (a neighbouring case's
+/// or a coarser mesh's).
+pub const WARM_START_MU: f64 = 1e-4;
+/// Bound push of a solve that starts from an optimum (relative to the bound's magnitude).
+pub const WARM_START_BOUND_PUSH: f64 = 1e-6;
+
+/// Complementarity tolerance of a warm-started exact-Hessian solve, as a fraction of the
+/// requested one: Newton steps from an optimum meet the requested tolerance at μ ≈ 1e-5,
+/// where the barrier still holds the objective ~0.3 % above the optimum that the cold hybrid
+/// solves (μ ≈ 1e-6 when they stop) reach; one decade more costs a few iterations
+/// (decision 0005).
+pub const WARM_START_COMPL_FACTOR: f64 = 0.1;
+
+/// Solver options of a solve that starts from an optimum: the interior point starts on the
+/// central path of a small μ with the variables barely pushed from their bounds instead of
+/// re-centring far from it, and a hybrid Hessian becomes the exact Hessian from the first
+/// iteration (the quasi-Newton phase exists to get far from the optimum; near it, it only
+/// delays the Newton steps; decision 0005 gives the measurements). An
+/// exact-Hessian warm start ends at a tenth of the requested complementarity tolerance
+/// ([`WARM_START_COMPL_FACTOR`]); a hybrid turned exact drops its centrality correctors.
+/// Backends that cannot warm start get `options` unchanged
+/// (they still start from the optimum, cold).
+pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> SolverOptions {
+    if !solver.supports_warm_start() {
+        return options.clone();
+    }
+    let hybrid = matches!(options.hessian, HessianMode::Hybrid { .. });
+    let hessian = if hybrid {
+        HessianMode::Exact
+    } else {
+        options.hessian
+    };
+    let exact = matches!(hessian, HessianMode::Exact);
+    SolverOptions {
+        warm_start: true,
+        mu_init: WARM_START_MU,
+        bound_push: WARM_START_BOUND_PUSH,
+        hessian,
+        // correctors pay in a limited-memory phase (one more column of a block solve); a
+        // Newton step's corrector costs a refined solve of its own and saves fewer
+        // iterations than it costs (decision 0005)
+        centrality_correctors: if hybrid {
+            0
+        } else {
+            options.centrality_correctors
+        },
+        compl_inf_tol: if exact {
+            options.compl_inf_tol * WARM_START_COMPL_FACTOR
+        } else {
+            options.compl_inf_tol
+        },
+        ..options.clone()
+    }
+}
+
+/// Mesh sequencing of [`solve_guesses`]: each standard guess is first solved on a coarser
+/// mesh and the problem is then solved from that optimum resampled to the requested mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Presolve {
+    /// Mesh intervals of the coarse solve (below the problem's).
+    pub mesh_intervals: usize,
+}
+
+/// Default coarse mesh of a presolve: 10 intervals per half cycle (20 for a full cycle).
+pub const PRESOLVE_MESH: usize = 10;
+
+/// The presolve of a problem with `settings` for the requested coarse mesh (`presolve_mesh`
+/// of a study file's `[solver]`, `stride predict --presolve-mesh`): unset,
+/// [`PRESOLVE_MESH`] intervals per half cycle when the mesh is finer than that, else none; 0
+/// for none; otherwise at least 2 intervals and fewer than the mesh.
+pub fn presolve_for(
+    requested: Option<usize>,
+    settings: &ProblemSettings,
+) -> Result<Option<Presolve>, PredictError> {
+    let mesh = settings.mesh_intervals;
+    let default = match settings.cycle {
+        CycleKind::HalfSymmetric => PRESOLVE_MESH,
+        CycleKind::FullPeriodic => 2 * PRESOLVE_MESH,
+    };
+    let bad = |reason: String| Err(PredictError::Presolve(reason));
+    match requested {
+        None if mesh > default => Ok(Some(Presolve {
+            mesh_intervals: default,
+        })),
+        None | Some(0) => Ok(None),
+        Some(1) => bad(
+            "1: the coarse mesh needs at least 2 intervals (0 turns the presolve off)".into(),
+        ),
+        Some(c) if c >= mesh => bad(format!(
+            "{c}: the coarse mesh must have fewer intervals than the mesh ({mesh}); 0 turns the presolve off"
+        )),
+        Some(c) => Ok(Some(Presolve { mesh_intervals: c })),
+    }
+}
+
+/// The coarse solve of a presolved guess, as recorded in `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct PresolveReport {
+    /// Mesh intervals of the coarse problem.
+    pub mesh_intervals: usize,
+    /// Solver status of the coarse solve.
+    pub status: String,
+    /// Whether the fine solve started from the coarse optimum (false: the coarse solve did
+    /// not converge and the fine solve started from the guess itself).
+    pub used: bool,
+    /// Iterations of the coarse solve.
+    pub iterations: usize,
+    /// Objective of the coarse optimum.
+    pub objective: f64,
+    /// Wall time of the coarse solve and the resampling [s].
+    pub time_total_s: f64,
+    /// Iteration log of the coarse solve (written to `solver_log_<guess>_presolve.csv`).
+    #[serde(skip)]
+    pub log: Vec<IterationRecord>,
+}
+
+/// The node tape of `problem`, recorded at `x0`; one tape serves every solve of the problem.
+pub fn record_tape(problem: &GaitProblem, x0: &[f64]) -> Result<Arc<TapeNode>, PredictError> {
+    Ok(Arc::new(TapeNode::for_problem(
+        problem,
+        &NodeModel::new(problem)?,
+        x0,
+    )?))
+}
+
+/// Solves `problem` (its tape `tape`) from `x0` with `options`; `progress` gets every
+/// iteration.
+pub fn solve_from(
+    problem: &GaitProblem,
+    tape: Arc<TapeNode>,
+    x0: Vec<f64>,
+    solver: &(dyn Solver + Sync),
+    options: &SolverOptions,
+    progress: &(dyn Fn(&IterationRecord) + Sync),
+) -> Result<SolveResult, PredictError> {
+    let tr = Transcription::new(problem.clone(), tape, x0);
+    with_threads(options.threads, || {
+        solver.solve(&tr, options, &mut |rec: &IterationRecord| {
+            progress(rec);
+            ControlFlow::Continue(())
+        })
+    })
+    .map_err(PredictError::Solver)?
+    .map_err(|e| PredictError::Solver(e.to_string()))
+}
+
+/// The problem of `settings` on the coarse mesh of `presolve`.
+pub fn coarse_problem(
+    model: &Model,
+    settings: &ProblemSettings,
+    presolve: Presolve,
+) -> Result<GaitProblem, PredictError> {
+    let coarse = ProblemSettings {
+        mesh_intervals: presolve.mesh_intervals,
+        ..settings.clone()
+    };
+    Ok(GaitProblem::new(model, &coarse, &bounds_data(&coarse))?)
+}
+
+/// One mesh of a presolved guess: the problem, its tape and the starting point.
+pub struct Stage<'a> {
+    /// The problem on this mesh.
+    pub problem: &'a GaitProblem,
+    /// Its node tape (shared between the guesses solved on it).
+    pub tape: Arc<TapeNode>,
+    /// Starting point: the guess on the coarse mesh; on the fine mesh the fallback used when
+    /// the coarse solve fails.
+    pub x0: Vec<f64>,
+}
+
+/// The mesh a solver iteration belongs to, with its number of intervals: the coarse mesh of
+/// a presolve, or the requested (final) mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshStage {
+    /// The coarse mesh whose optimum starts the final solve.
+    Coarse(usize),
+    /// The requested mesh.
+    Final(usize),
+}
+
+/// Where an iteration reported to the progress callback of [`solve_guesses`] comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ProgressSource {
+    /// The initial guess being solved.
+    pub guess: GuessKind,
+    /// The mesh being solved.
+    pub stage: MeshStage,
+}
+
+/// Solves `coarse` from its starting point, then `fine` from the resampled coarse optimum
+/// (warm) or, if the coarse solve failed, from `fine.x0` (cold). The time limit of `options`
+/// covers both solves; the report names `guess` and records the coarse solve. `progress`
+/// gets each iteration with its mesh; iterations and times count from the start of that
+/// mesh's solve.
+pub fn solve_presolved(
+    coarse: Stage,
+    fine: Stage,
+    guess: InitialGuess,
+    solver: &(dyn Solver + Sync),
+    options: &SolverOptions,
+    progress: &(dyn Fn(MeshStage, &IterationRecord) + Sync),
+) -> Result<Solved, PredictError> {
+    let start = std::time::Instant::now();
+    // the coarse optimum is only a starting point: a hybrid solve stops where μ reaches
+    // its floor instead of converging in exact-Hessian steps (decision 0005)
+    let coarse_options = SolverOptions {
+        stop_at_mu_floor: matches!(options.hessian, HessianMode::Hybrid { .. }),
+        ..options.clone()
+    };
+    let coarse_stage = MeshStage::Coarse(coarse.problem.layout.n);
+    let r = solve_from(
+        coarse.problem,
+        coarse.tape,
+        coarse.x0,
+        solver,
+        &coarse_options,
+        &|rec| progress(coarse_stage, rec),
+    )?;
+    let used = r.status.is_usable_start();
+    let (x0, fine_options) = if used {
+        let x = fine
+            .problem
+            .guess_from_full_solution(coarse.problem, &r.x)
+            .map_err(|e| PredictError::Solver(format!("presolve: {e}")))?;
+        (x, warm_start_options(solver, options))
+    } else {
+        (fine.x0, options.clone())
+    };
+    let report = PresolveReport {
+        mesh_intervals: coarse.problem.layout.n,
+        status: format!("{:?}", r.status),
+        used,
+        iterations: r.iterations,
+        objective: r.objective,
+        time_total_s: start.elapsed().as_secs_f64(),
+        log: r.log,
+    };
+    let fine_options = SolverOptions {
+        time_limit: options
+            .time_limit
+            .map(|t| t.saturating_sub(start.elapsed())),
+        ..fine_options
+    };
+    let fine_stage = MeshStage::Final(fine.problem.layout.n);
+    let rf = solve_from(fine.problem, fine.tape, x0, solver, &fine_options, &|rec| {
+        progress(fine_stage, rec)
+    })?;
+    let mut solved = Solved {
+        report: GuessReport::new(guess, &rf),
+        result: rf,
+    };
+    solved.report.presolve = Some(report);
+    Ok(solved)
+}
+
+/// Solve `model` with `settings` from each guess with `solver`, the guesses at the same time,
+/// each with `options.threads` evaluation threads; with `presolve`, each guess is first
+/// solved on that coarser mesh ([`Presolve`]; ignored when it is not coarser than
+/// `settings.mesh_intervals`). `progress` receives every iteration of every guess, with the
+/// guess and the mesh it belongs to.
+pub fn solve_guesses(
+    model: &Model,
+    settings: &ProblemSettings,
+    guesses: &[GuessKind],
+    presolve: Option<Presolve>,
+    solver: &(dyn Solver + Sync),
+    options: &SolverOptions,
+    progress: &(dyn Fn(ProgressSource, &IterationRecord) + Sync),
+) -> Result<(GaitProblem, Vec<Solved>), PredictError> {
+    let problem = GaitProblem::new(model, settings, &bounds_data(settings))?;
+    let x0s = guesses
+        .iter()
+        .map(|&g| guess_point(&problem, g))
+        .collect::<Result<Vec<_>, _>>()?;
+    let first = x0s
+        .first()
+        .ok_or_else(|| PredictError::Solver("no initial guess".into()))?;
+    let tape = record_tape(&problem, first)?;
+    // the coarse problem and its tape, built once for all guesses
+    let coarse = match presolve.filter(|p| p.mesh_intervals < settings.mesh_intervals) {
+        Some(p) => {
+            let coarse = coarse_problem(model, settings, p)?;
+            let starts = guesses
+                .iter()
+                .map(|&g| guess_point(&coarse, g))
+                .collect::<Result<Vec<_>, _>>()?;
+            let coarse_tape = record_tape(&coarse, &starts[0])?;
+            Some((coarse, coarse_tape, starts))
+        }
+        None => None,
+    };
+    let results: Vec<Result<Solved, PredictError>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = guesses
+            .iter()
+            .zip(x0s)
+            .enumerate()
+            .map(|(i, (&g, x0))| {
+                let (problem, tape, coarse) = (&problem, tape.clone(), coarse.as_ref());
+                scope.spawn(move || {
+                    let progress = |stage, rec: &IterationRecord| {
+                        progress(ProgressSource { guess: g, stage }, rec)
+                    };
+                    match coarse {
+                        Some((cp, ct, starts)) => solve_presolved(
+                            Stage {
+                                problem: cp,
+                                tape: ct.clone(),
+                                x0: starts[i].clone(),
+                            },
+                            Stage { problem, tape, x0 },
+                            g.into(),
+                            solver,
+                            options,
+                            &progress,
+                        ),
+                        None => {
+                            let stage = MeshStage::Final(problem.layout.n);
+                            let progress = |rec: &IterationRecord| progress(stage, rec);
+                            let r = solve_from(problem, tape, x0, solver, options, &progress)?;
+                            Ok(Solved {
+                                report: GuessReport::new(g, &r),
+                                result: r,
+                            })
+                        }
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err(PredictError::Solver("solver thread panicked".into())))
+            })
+            .collect()
+    });
+    let solved = results.into_iter().collect::<Result<Vec<_>, _>>()?;
+    Ok((problem, solved))
+}
+
+/// Index of the lowest-cost converged solve.
+pub fn select(solved: &[Solved]) -> Option<usize> {
+    solved
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.report.converged)
+        .min_by(|a, b| a.1.report.objective.total_cmp(&b.1.report.objective))
+        .map(|(i, _)| i)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{
+        presolve_for, warm_start_options, Presolve, PRESOLVE_MESH, WARM_START_BOUND_PUSH,
+        WARM_START_MU,
+    };
+    use stride_ocp::settings::{CycleKind, ProblemSettings};
+    use stride_solve::ipm::InteriorPoint;
+    use stride_solve::solver::{HessianMode, SolverOptions};
+
+    fn mesh(n: usize) -> ProblemSettings {
+        ProblemSettings {
+            mesh_intervals: n,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn presolve_defaults_below_finer_meshes_and_checks_explicit_values() {
+        let coarse = |n| Some(Presolve { mesh_intervals: n });
+        // unset: the default coarse mesh when the mesh is finer, none otherwise
+        assert_eq!(
+            presolve_for(None, &mesh(50)).unwrap(),
+            coarse(PRESOLVE_MESH)
+        );
+        assert_eq!(
+            presolve_for(None, &mesh(PRESOLVE_MESH + 1)).unwrap(),
+            coarse(PRESOLVE_MESH)
+        );
+        assert_eq!(presolve_for(None, &mesh(PRESOLVE_MESH)).unwrap(), None);
+        assert_eq!(presolve_for(None, &mesh(4)).unwrap(), None);
+        // a full cycle: twice the intervals
+        let full = |n| ProblemSettings {
+            cycle: CycleKind::FullPeriodic,
+            ..mesh(n)
+        };
+        assert_eq!(
+            presolve_for(None, &full(100)).unwrap(),
+            coarse(2 * PRESOLVE_MESH)
+        );
+        assert_eq!(presolve_for(None, &full(2 * PRESOLVE_MESH)).unwrap(), None);
+        // 0: off; explicit values between 2 and mesh − 1
+        assert_eq!(presolve_for(Some(0), &mesh(50)).unwrap(), None);
+        assert_eq!(presolve_for(Some(2), &mesh(50)).unwrap(), coarse(2));
+        assert_eq!(presolve_for(Some(25), &mesh(100)).unwrap(), coarse(25));
+        assert_eq!(presolve_for(Some(49), &mesh(50)).unwrap(), coarse(49));
+        for (bad, n, needle) in [
+            (1, 50, "presolve_mesh 1: the coarse mesh needs at least 2"),
+            (
+                50,
+                50,
+                "presolve_mesh 50: the coarse mesh must have fewer intervals than the mesh (50)",
+            ),
+            (60, 50, "presolve_mesh 60"),
+            (10, 8, "presolve_mesh 10"),
+        ] {
+            let e = presolve_for(Some(bad), &mesh(n)).unwrap_err().to_string();
+            assert!(e.contains(needle), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_warm_start_takes_newton_steps_from_the_first_iteration() {
+        let ipm = InteriorPoint::new();
+        let lbfgs = HessianMode::LimitedMemory { history: 6 };
+        let hybrid = SolverOptions {
+            hessian: HessianMode::Hybrid { history: 6 },
+            centrality_correctors: 2,
+            compl_inf_tol: 1e-4,
+            tol: 1e-4,
+            ..Default::default()
+        };
+        let w = warm_start_options(&ipm, &hybrid);
+        assert!(w.warm_start);
+        assert_eq!(w.centrality_correctors, 0);
+        assert_eq!(
+            (w.mu_init, w.bound_push),
+            (WARM_START_MU, WARM_START_BOUND_PUSH)
+        );
+        assert_eq!(w.hessian, HessianMode::Exact);
+        assert!(
+            (w.compl_inf_tol - 1e-5).abs() < 1e-18,
+            "{}",
+            w.compl_inf_tol
+        );
+        assert_eq!(w.tol, 1e-4);
+        // an explicit limited-memory Hessian is kept, with its tolerance
+        let plain = SolverOptions {
+            hessian: lbfgs,
+            ..hybrid.clone()
+        };
+        let w = warm_start_options(&ipm, &plain);
+        assert_eq!((w.hessian, w.compl_inf_tol), (lbfgs, 1e-4));
+        assert_eq!(w.centrality_correctors, 2);
+        // an explicit exact Hessian: the tighter complementarity too
+        let exact = SolverOptions {
+            hessian: HessianMode::Exact,
+            ..plain
+        };
+        let w = warm_start_options(&ipm, &exact);
+        assert_eq!(w.hessian, HessianMode::Exact);
+        assert!(w.compl_inf_tol < 1.01e-5);
+    }
+}
