@@ -18,6 +18,8 @@ else
     bin=target/fuzz/release/stride-fuzz
 fi
 ref=../shared/reference
+# Files in a target's crash folder (0 when it does not exist yet).
+count_crashes() { if [ -d "fuzz/crashes/$1" ]; then ls "fuzz/crashes/$1" | wc -l; else echo 0; fi; }
 for t in osim storage study; do
     seeds=()
     case $t in
@@ -25,9 +27,9 @@ for t in osim storage study; do
     storage) [ -d $ref/experimental ] && seeds=(--seeds $ref/experimental) ;;
     study) seeds=(--seeds studies) ;;
     esac
-    before=$(ls fuzz/crashes/$t 2>/dev/null | wc -l)
+    before=$(count_crashes $t)
     $bin run $t --seconds "$seconds" --seed "$RANDOM" "${seeds[@]}"
-    after=$(ls fuzz/crashes/$t 2>/dev/null | wc -l)
+    after=$(count_crashes $t)
     if [ "$after" -gt "$before" ]; then
         echo "fuzz target $t: new crashing inputs in fuzz/crashes/$t" >&2
         exit 1
