@@ -413,7 +413,7 @@ pub fn heel_strike(vy: &[f64]) -> Option<usize> {
 
 impl GaitProblem {
     /// The node model's physical quantities (muscle forces, fibre states, metabolic rates,
-    /// ...) at every sample of a reconstructed gait cycle.
+    /// the terms of the torque balances, ...) at every sample of a reconstructed gait cycle.
     pub fn cycle_samples(
         &self,
         node: &NodeModel,
@@ -438,6 +438,10 @@ impl GaitProblem {
                 xin[io.q() + k] = cycle.q[i][k] / s.q[k];
                 xin[io.v() + k] = cycle.v[i][k] / s.v[k];
                 xin[io.qdd() + k] = cycle.qdd[i][k] / s.a[k];
+            }
+            for k in 0..l.na {
+                xin[io.arm() + k] = cycle.arm_activation[i][k];
+                xin[io.e_arm() + k] = cycle.arm_excitation[i][k];
             }
             node.sample(&mut ws, &xin)
         });
