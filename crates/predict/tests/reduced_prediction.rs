@@ -222,8 +222,9 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
     // The torque terms close the balance: on the rows of the simulated half to the solver's
     // tolerance; on the mirrored half, whose terms are evaluated at the mirrored states
     // while its inverse dynamics is mirrored, to the left–right symmetry of the model's
-    // trunk (the lumbar terms of a mirrored state differ from the mirrored terms by up to
-    // 0.04 N m).
+    // trunk (its muscles' length polynomials are fitted per side and mirror each other
+    // only to ~1e-4 in their coefficients: the lumbar muscle moments of a mirrored state
+    // differ from the mirrored moments by up to 0.04 N m).
     let gaps = torque_balance_gaps(&out);
     let closed = gaps.iter().filter(|(g, _)| *g < 1e-3).count();
     let (worst, at) = gaps.iter().max_by(|a, b| a.0.total_cmp(&b.0)).unwrap();
