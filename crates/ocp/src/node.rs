@@ -632,8 +632,22 @@ pub struct SampleOutputs {
     pub fiber_length: Vec<f64>,
     /// Fibre lengthening velocity per problem muscle [m s⁻¹] (0 for removed muscles).
     pub fiber_velocity: Vec<f64>,
-    /// Passive torque per problem coordinate (0 where none) [N m].
+    /// Passive torque per problem coordinate (0 where none) [N m]: joint limit torques and
+    /// damping, springs on the coordinate, a prosthesis' spring.
     pub passive: Vec<f64>,
+    /// Muscle moment per problem coordinate, Σ moment arm × tendon force [N m] (0 on
+    /// coordinates no muscle drives).
+    pub muscle: Vec<f64>,
+    /// Ideal actuator torque per problem coordinate [N m] (0 on coordinates no actuator
+    /// drives).
+    pub actuator: Vec<f64>,
+    /// Generalised force of the ligaments per problem coordinate, −Σ F ∂l/∂q [N m or N]
+    /// (0 on coordinates no ligament spans).
+    pub ligament: Vec<f64>,
+    /// Length of each model ligament [m].
+    pub ligament_length: Vec<f64>,
+    /// Tension of each model ligament [N].
+    pub ligament_force: Vec<f64>,
 }
 
 impl NodeModel {
@@ -713,7 +727,30 @@ impl NodeModel {
         {
             out.passive[i] = ws.passive[i];
         }
+        self.torque_sources(ws, x, &mut out);
         out
+    }
+
+    /// The muscle, actuator and ligament terms of the torque balances (the generalised
+    /// forces they equal with the passive torques) at input `x`, after [`Self::eval`].
+    fn torque_sources(&self, ws: &NodeWorkspace<f64>, x: &[f64], out: &mut SampleOutputs) {
+        let nq = self.coord_model.len();
+        out.muscle = vec![0.0; nq];
+        out.actuator = vec![0.0; nq];
+        for (t, &(i, _)) in self.muscle_driven.iter().enumerate() {
+            out.muscle[i] = self.torque_terms[t]
+                .iter()
+                .map(|&(m, arm)| ws.arms[arm] * ws.tendon[m])
+                .sum();
+        }
+        for (k, &i) in self.actuator_driven.iter().enumerate() {
+            out.actuator[i] = x[self.inputs.arm() + k] * self.actuator_gain[k] * self.s_arm;
+        }
+        out.ligament = (0..nq)
+            .map(|i| self.ligaments.moment(i, &ws.ligaments).unwrap_or(0.0))
+            .collect();
+        out.ligament_length = ws.ligaments.length.clone();
+        out.ligament_force = ws.ligaments.force.clone();
     }
 
     /// Names of the contact groups (feet) in the order of `SampleOutputs::group_force`.

@@ -194,19 +194,18 @@ impl GaitProblem {
             .collect()
     }
 
-    /// Sample `g` of the periodic extension of the half cycle: half `g / N` is mirrored when
-    /// odd, and shifted forward by (g / N)·d.
+    /// Sample `g` of the periodic extension of the half cycle: half `h` is mirrored when
+    /// odd, and shifted forward by h·d.
     fn extended_sample(&self, m: &MeshSolution, g: usize, control: bool) -> Trajectory {
-        let n = self.layout.n;
+        let n = self.layout.n as isize;
         // State-type sample g ↔ mesh point g mod N of half g / N; control-type sample g
-        // ↔ mesh point ((g − 1) mod N) + 1, stored at index (g − 1) mod N.
-        let (half, k) = if control {
-            ((g.max(1) - 1) / n, (g.max(1) - 1) % n)
-        } else {
-            (g / n, g % n)
-        };
+        // ↔ mesh point ((g − 1) mod N) + 1 of half (g − 1) / N (floored), stored at index
+        // (g − 1) mod N: control sample 0 is mesh point N of half −1, the mirrored half
+        // before the simulated one.
+        let g = g as isize - isize::from(control);
+        let (half, k) = (g.div_euclid(n), g.rem_euclid(n) as usize);
         let t = &m.half;
-        let mirrored = half % 2 == 1 && self.is_half_cycle();
+        let mirrored = half.rem_euclid(2) == 1 && self.is_half_cycle();
         let shift = half as f64 * m.distance;
         let tx = self.gait.forward_translation;
         let mut s = Trajectory::default();
@@ -270,11 +269,19 @@ impl GaitProblem {
     /// The full gait cycle (2N samples) starting at right heel strike, reconstructed from the
     /// symmetric half cycle; a full-cycle problem is re-ordered to start at right heel strike.
     pub fn gait_cycle(&self, m: &MeshSolution) -> Trajectory {
-        let n = self.layout.n;
-        let total = if self.is_half_cycle() { 2 * n } else { n };
         let vy_r: Vec<f64> = m.half.grf_right.iter().map(|f| f[1]).collect();
         let vy_l: Vec<f64> = m.half.grf_left.iter().map(|f| f[1]).collect();
         let start = cycle_start(&vy_r, &vy_l, self.is_half_cycle());
+        self.gait_cycle_from(m, start)
+    }
+
+    /// The full gait cycle (2N samples for a half-cycle problem, N for a full-cycle one)
+    /// starting at sample `start` of the periodic extension of the simulated interval
+    /// (mesh point `start`, counted over the mirrored and shifted repetitions), with the
+    /// forward position of its first sample at 0.
+    pub fn gait_cycle_from(&self, m: &MeshSolution, start: usize) -> Trajectory {
+        let n = self.layout.n;
+        let total = if self.is_half_cycle() { 2 * n } else { n };
         let h = m.duration / n as f64;
         let mut out = Trajectory::default();
         for i in 0..total {
@@ -406,7 +413,7 @@ pub fn heel_strike(vy: &[f64]) -> Option<usize> {
 
 impl GaitProblem {
     /// The node model's physical quantities (muscle forces, fibre states, metabolic rates,
-    /// ...) at every sample of a reconstructed gait cycle.
+    /// the terms of the torque balances, ...) at every sample of a reconstructed gait cycle.
     pub fn cycle_samples(
         &self,
         node: &NodeModel,
@@ -431,6 +438,10 @@ impl GaitProblem {
                 xin[io.q() + k] = cycle.q[i][k] / s.q[k];
                 xin[io.v() + k] = cycle.v[i][k] / s.v[k];
                 xin[io.qdd() + k] = cycle.qdd[i][k] / s.a[k];
+            }
+            for k in 0..l.na {
+                xin[io.arm() + k] = cycle.arm_activation[i][k];
+                xin[io.e_arm() + k] = cycle.arm_excitation[i][k];
             }
             node.sample(&mut ws, &xin)
         });
@@ -569,6 +580,12 @@ mod tests {
         assert_eq!(cycle_start(&r, &l, true), 4 + 1);
         // A full periodic cycle whose strike is at its first sample.
         assert_eq!(cycle_start(&[300.0, 200.0, 0.0, 0.0], &[], false), 1);
+        // Only a right foot always or never in contact has no strike: the cycle starts at
+        // sample 0 (mesh point 0).
+        assert_eq!(cycle_start(&[300.0; 4], &[300.0; 4], true), 0);
+        assert_eq!(cycle_start(&[0.0; 4], &[0.0; 4], true), 0);
+        assert_eq!(cycle_start(&[300.0; 4], &[], false), 0);
+        assert_eq!(cycle_start(&[0.0, 0.0, 0.0, 30.0], &[], false), 4);
     }
 
     #[test]

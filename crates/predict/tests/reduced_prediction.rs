@@ -219,6 +219,23 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
+    // The torque terms close the balance: on the rows of the simulated half to the solver's
+    // tolerance; on the mirrored half, whose terms are evaluated at the mirrored states
+    // while its inverse dynamics is mirrored, to the left–right symmetry of the model's
+    // trunk (its muscles' length polynomials are fitted per side and mirror each other
+    // only to ~1e-4 in their coefficients: the lumbar muscle moments of a mirrored state
+    // differ from the mirrored moments by up to 0.04 N m).
+    let gaps = torque_balance_gaps(&out);
+    let closed = gaps.iter().filter(|(g, _)| *g < 1e-3).count();
+    let (worst, at) = gaps.iter().max_by(|a, b| a.0.total_cmp(&b.0)).unwrap();
+    eprintln!("torque balance from the files: {closed} of 20 rows within 1e-3 N m, largest gap {worst:.2e} ({at})");
+    assert!(closed >= 9, "{gaps:?}");
+    assert!(
+        *worst < 0.1,
+        "the torque tables leave {worst} N m of {at} unexplained"
+    );
+    // the built-in model has no ligaments: no ligament tables
+    assert!(!out.join("ligament_torques.csv").exists());
 
     // The kept solution is stored exactly: rewriting the folder from its solution.json
     // with the same definitions reproduces the motion file byte for byte.
@@ -231,6 +248,30 @@ fn coarse_mesh_prediction_converges_and_writes_results() {
     assert!(before == after, "motion.mot changed when rewritten");
     assert!(out.join("solver_log_data-informed-walking.csv").is_file());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Per row of a result folder: the largest difference [N m or N] over the coordinates
+/// between `joint_torques.csv` (inverse dynamics) and the sum of `muscle_torques.csv`,
+/// `passive_torques.csv` and `actuator_torques.csv`, and that coordinate's name.
+fn torque_balance_gaps(out: &std::path::Path) -> Vec<(f64, String)> {
+    let read = |file: &str| -> (Vec<String>, Vec<Vec<f64>>) {
+        let text = std::fs::read_to_string(out.join(file)).unwrap();
+        let mut lines = text.lines();
+        let names = lines.next().unwrap().split(',').skip(1).map(String::from);
+        let rows = lines.map(|l| l.split(',').skip(1).map(|v| v.parse().unwrap()).collect());
+        (names.collect(), rows.collect())
+    };
+    let (names, total) = read("joint_torques.csv");
+    let terms = ["muscle", "passive", "actuator"].map(|t| read(&format!("{t}_torques.csv")).1);
+    let gap = |i: usize, c: usize| (total[i][c] - terms.iter().map(|t| t[i][c]).sum::<f64>()).abs();
+    (0..total.len())
+        .map(|i| {
+            let c = (0..names.len())
+                .max_by(|&a, &b| gap(i, a).total_cmp(&gap(i, b)))
+                .unwrap();
+            (gap(i, c), names[c].clone())
+        })
+        .collect()
 }
 
 /// Largest constraint violation of `problem`'s NLP at `x` (unscaled max norm, rows and

@@ -211,6 +211,9 @@ fn tables_carry_units_and_states_carry_opensim_paths() {
         "fiber_lengths.csv",
         "fiber_velocities.csv",
         "metabolic_power.csv",
+        "muscle_torques.csv",
+        "passive_torques.csv",
+        "actuator_torques.csv",
     ] {
         let h = header(f);
         assert!(h.starts_with("time [s],"), "{f}: {h}");
@@ -220,6 +223,10 @@ fn tables_carry_units_and_states_carry_opensim_paths() {
     assert!(header("joint_angles.csv").contains(",pelvis_tx [m],"));
     assert!(header("joint_torques.csv").contains(",knee_angle_r [N m],"));
     assert!(header("muscle_forces.csv").contains(",soleus_r [N],"));
+    assert_eq!(header("muscle_torques.csv"), header("joint_torques.csv"));
+    // the built-in model has no ligaments
+    assert!(!r.out.join("ligament_torques.csv").exists());
+    assert!(!r.out.join("ligament_lengths.csv").exists());
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(r.out.join("summary.json")).unwrap())
             .unwrap();

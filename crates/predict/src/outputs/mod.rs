@@ -2,6 +2,8 @@
 //!
 //! - [`tables`]: CSV tables with the unit of every column in its header, the trunk sway;
 //! - [`muscles`]: per-muscle force, fibre length and velocity, metabolic power;
+//! - [`torques`]: the terms of the torque balances (muscle, passive, actuator, ligament
+//!   torques per coordinate), ligament lengths and forces;
 //! - [`opensim`]: files OpenSim and Moco open as they are: the model (`model.osim`), the
 //!   motion (`motion.mot`), ground reaction forces with their external-loads description
 //!   (`grf.mot`, `grf.xml`), states, controls and both as a Moco trajectory (`states.sto`,
@@ -12,6 +14,7 @@
 mod muscles;
 mod opensim;
 mod tables;
+mod torques;
 
 pub use opensim::{
     model_coordinates, CONTROLS_FILE, GRF_FILE, GRF_XML_FILE, MODEL_FILE, MOTION_FILE, STATES_FILE,
@@ -43,6 +46,7 @@ pub fn write_cycle(
     let t = CycleTables::new(problem, cycle);
     tables::write_tables(&t, dir)?;
     muscles::write_muscle_tables(&t, &samples, dir)?;
+    torques::write_torque_tables(&t, &problem.model, &samples, dir)?;
     let reference = stride_ocp::data::walking_reference();
     let mut figs = figures::gait_figures(&t, &reference);
     if problem.settings.prosthesis.is_some() {

@@ -11,6 +11,7 @@ use stride_solve::solver::{SolveResult, SolveStatus};
 
 /// The built-in model, its problem on `mesh` intervals and the data-informed walking guess
 /// reported as an optimal solve.
+#[allow(dead_code)]
 pub fn guess_solved(mesh: usize) -> (stride_model::Model, GaitProblem, Vec<predict::Solved>) {
     let model = stride_model::default_model::default_model();
     let settings = ProblemSettings {
@@ -73,4 +74,43 @@ pub fn continuous(problem: &GaitProblem, x: &mut [f64]) {
             x[l.arm(c, i)] = x[l.arm(m, i)];
         }
     }
+}
+
+/// `x` with mesh point N linked to mesh point 0 as the symmetry (half cycle) or
+/// periodicity (full cycle) constraints link them (forward position excepted), and every
+/// interval's last collocation state equal to the next mesh point's (continuity).
+#[allow(dead_code)]
+pub fn consistent(p: &GaitProblem, mut x: Vec<f64>) -> Vec<f64> {
+    let l = &p.layout;
+    let (s, g) = (&p.scaling, &p.gait);
+    let half = p.is_half_cycle();
+    let (first, last) = (Point::Mesh(0), Point::Mesh(l.n));
+    for (i, c) in g.coordinates.iter().enumerate() {
+        let (m, sign) = if half {
+            (c.mirror, c.mirror_sign)
+        } else {
+            (i, 1.0)
+        };
+        if i != g.forward_translation {
+            x[l.q(last, i)] = sign * x[l.q(first, m)] * s.q[m] / s.q[i];
+        }
+        x[l.v(last, i)] = sign * x[l.v(first, m)] * s.v[m] / s.v[i];
+    }
+    for m in 0..l.nm {
+        let pm = if half { g.muscle_mirror[m] } else { m };
+        x[l.a(last, m)] = x[l.a(first, pm)];
+        x[l.f(last, m)] = x[l.f(first, pm)];
+    }
+    let arms = g.actuator_driven();
+    for (ai, &ci) in arms.iter().enumerate() {
+        let mc = if half { g.coordinates[ci].mirror } else { ci };
+        let pm = arms.iter().position(|&c| c == mc).unwrap();
+        x[l.arm(last, ai)] = x[l.arm(first, pm)];
+    }
+    for k in 0..l.n {
+        for st in 0..l.n_states() {
+            x[l.state(Point::Col(k, 3), st)] = x[l.state(Point::Mesh(k + 1), st)];
+        }
+    }
+    x
 }
