@@ -5,11 +5,11 @@
 // Index loops over several parallel arrays are clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use crate::ipm::algorithm::{Ipm, Quasi};
 use crate::ipm::inertia::KktStructure;
 use crate::ipm::iterate::Iterate;
 use crate::ipm::lbfgs::dot;
 use crate::ipm::line_search::Trial;
+use crate::ipm::workspace::{Ipm, Quasi};
 use crate::observer::Diagnostic;
 use crate::solver::SolveStatus;
 

@@ -1,11 +1,13 @@
 //! The primal-dual barrier method after Wächter & Biegler 2006 as a type with one method per
 //! stage; see docs/decisions/0002-solver.md.
 //!
-//! [`Ipm`] holds the whole workspace of a solve, allocated before the first iteration: the
-//! iterate ([`super::iterate`]), the KKT system and its factorisation
-//! ([`super::inertia`]), the Newton steps ([`super::direction`]), the centrality
-//! correctors ([`super::correctors`]), the barrier parameter ([`super::barrier`]) and the
-//! line-search state ([`super::line_search`], [`super::filter`]). One iteration:
+//! [`Ipm`] ([`super::workspace`], below every stage) holds the whole workspace of a solve,
+//! allocated here before the first iteration: the iterate ([`super::iterate`]), the KKT
+//! system and its factorisation ([`super::inertia`]), the Newton steps
+//! ([`super::direction`]), the centrality correctors ([`super::correctors`]), the barrier
+//! parameter ([`super::barrier`]) and the line-search state ([`super::line_search`],
+//! [`super::filter`]). Each stage adds its methods to `Ipm` in its own module; this one
+//! builds it and runs the iteration. One iteration:
 //!
 //! 1. optimality error and termination test ([`super::convergence`]);
 //! 2. barrier update ([`super::barrier`]), the switch of a hybrid solve to the exact
@@ -19,18 +21,19 @@
 
 use std::time::Instant;
 
-use crate::ipm::barrier::Barrier;
-use crate::ipm::correctors::Correctors;
-use crate::ipm::direction::{bound_multiplier_steps, Newton};
+use crate::ipm::direction::bound_multiplier_steps;
 use crate::ipm::inertia::{KktStructure, KktSystem};
-use crate::ipm::iterate::{dual_fraction_to_boundary, Iterate};
+use crate::ipm::iterate::dual_fraction_to_boundary;
 use crate::ipm::lbfgs::Lbfgs;
-use crate::ipm::line_search::{LineSearch, Trial};
-use crate::ipm::linsys::{Counted, KktSolver, SolveCounts};
+use crate::ipm::line_search::Trial;
+use crate::ipm::linsys::{Counted, KktSolver};
 use crate::ipm::ordering::ordering_blocks;
 use crate::ipm::scaled::ScaledNlp;
 use crate::ipm::setup::{initial_iterate, initial_point, least_squares_multipliers, StartingPoint};
-use crate::nlp::{validate_bounds, validate_structures, Bounds, Nlp};
+use crate::ipm::workspace::{
+    iteration_capacity, Barrier, Correctors, Ipm, LineSearch, Newton, Optimality, Quasi, Stats,
+};
+use crate::nlp::{validate_bounds, validate_structures, Nlp};
 use crate::observer::{Diagnostic, Emitter, Observer};
 use crate::solver::{
     HessianMode, IterationRecord, SolveError, SolveResult, SolveStatus, SolverOptions,
@@ -44,82 +47,6 @@ const EXACT_TAIL_AFTER: usize = 3;
 /// long descent from a poor coarse optimum) the trial with 0 fails again; near one, the
 /// unregularised Newton step is what converges fast (decision 0005).
 const WARM_SKIP_ZERO_ERROR: f64 = 1e-2;
-
-/// Optimality measures of the current iterate (scaled unless noted).
-#[derive(Default)]
-pub(super) struct Optimality {
-    /// Equality residuals r.
-    pub r: Vec<f64>,
-    /// Lagrangian gradient ∇L over w.
-    pub gl: Vec<f64>,
-    /// ‖∇L‖∞.
-    pub inf_du: f64,
-    /// ‖r‖∞.
-    pub inf_pr: f64,
-    /// Dual and complementarity scalings s_d, s_c of the optimality error.
-    pub s_d: f64,
-    pub s_c: f64,
-    /// Scaled optimality error E₀ (eq. 5).
-    pub err0: f64,
-    /// Unscaled constraint violation.
-    pub inf_pr_u: f64,
-    /// Whether the iterate is primal and dual feasible to the tolerances.
-    pub feasible: bool,
-}
-
-/// The limited-memory Hessian and the buffers of its update.
-pub(super) struct Quasi {
-    pub lbfgs: Lbfgs,
-    /// x and ∇ₓL(x, λ_new) before the step.
-    pub prev_x: Vec<f64>,
-    pub prev_grad_lag: Vec<f64>,
-    /// ∇ₓL after the step.
-    pub tmp_n: Vec<f64>,
-    /// Correction pair (s, y) restricted to the nonlinear variables.
-    pub s_pair: Vec<f64>,
-    pub y_pair: Vec<f64>,
-}
-
-/// Counters of a solve beyond the linear algebra's.
-#[derive(Default)]
-pub(super) struct Stats {
-    pub restorations: usize,
-    pub soft_steps: usize,
-    /// Solve counts when the exact Hessian took over.
-    pub counts_at_switch: SolveCounts,
-    /// Iteration where the exact Hessian took over.
-    pub exact_from: Option<usize>,
-    /// Factorisations before the current iteration.
-    pub factorizations_before: usize,
-}
-
-/// The interior-point method on one problem: options, scaled problem, observer and the
-/// workspace of every stage.
-pub(super) struct Ipm<'a> {
-    pub o: &'a SolverOptions,
-    pub start: Instant,
-    pub prob: ScaledNlp<'a>,
-    pub bounds: Bounds,
-    pub emitter: Emitter<'a>,
-    pub st: Iterate,
-    pub kkt: KktSystem<'a>,
-    pub newton: Newton,
-    pub corr: Correctors,
-    pub barrier: Barrier,
-    pub ls: LineSearch,
-    pub opt: Optimality,
-    pub lbfgs: Option<Quasi>,
-    /// Whether the exact Hessian is in use.
-    pub exact: bool,
-    /// The primal point after a step.
-    pub x_new: Vec<f64>,
-    pub stats: Stats,
-    pub iter: usize,
-    pub log: Vec<IterationRecord>,
-    /// Step data of the last iteration, for the next record.
-    pub last_rec: IterationRecord,
-    pub acceptable_count: usize,
-}
 
 /// Runs the interior-point method on `nlp` with the given KKT linear solver.
 pub fn solve(
@@ -404,12 +331,6 @@ impl<'a> Ipm<'a> {
             )),
         }
     }
-}
-
-/// Entries reserved for the per-iteration lists (iteration log, filters), so that they do
-/// not grow during the iteration: one per iteration up to `max_iter`, at most 100,000.
-pub(super) fn iteration_capacity(o: &SolverOptions) -> usize {
-    o.max_iter.min(100_000) + 1
 }
 
 /// Variables that appear nonlinearly (a nonzero Hessian row or column): L-BFGS works in

@@ -8,9 +8,9 @@
 //! below 0.9999 × the largest of the last four free-mode references; `obj-constr-filter`
 //! needs (f, θ) not dominated by a filter of the earlier free-mode iterates.
 
-use crate::ipm::algorithm::{iteration_capacity, Ipm};
 use crate::ipm::iterate::{one_norm, Iterate};
-use crate::solver::{MuGlobalisation, MuOracle, MuStrategy, SolverOptions};
+use crate::ipm::workspace::{iteration_capacity, Barrier, Ipm};
+use crate::solver::{MuGlobalisation, MuStrategy, SolverOptions};
 
 /// Barrier-subproblem tolerance factor κ_ε.
 pub(super) const KAPPA_EPS: f64 = 10.0;
@@ -37,28 +37,6 @@ pub(super) fn monotone_decrease(mu: f64, floor: f64) -> f64 {
 /// complementarity (IPOPT `adaptive_mu_monotone_init_factor`).
 pub(super) fn fixed_mode_mu(st: &Iterate, floor: f64) -> f64 {
     (FIXED_MU_FACTOR * st.average_complementarity()).clamp(floor, MU_MAX)
-}
-
-/// State of the barrier parameter across iterations.
-pub(super) struct Barrier {
-    /// Current μ.
-    pub mu: f64,
-    /// Fraction-to-boundary factor τ = max(0.99, 1 − μ) of the current iteration.
-    pub tau: f64,
-    /// Whether the adaptive strategy was asked for.
-    pub want_adaptive: bool,
-    /// Free (oracle) mode of the adaptive strategy; false: monotone (fixed) mode.
-    pub adaptive: bool,
-    /// Globalisation of the adaptive strategy.
-    pub globalisation: MuGlobalisation,
-    /// Free-mode oracle.
-    pub oracle: MuOracle,
-    /// Optimality errors of the last free-mode iterations (`kkt-error` references).
-    free_refs: Vec<f64>,
-    /// (objective, θ) of the accepted free-mode iterates (`obj-constr-filter`).
-    mu_filter: Vec<(f64, f64)>,
-    /// Consecutive iterations with μ at its floor (hybrid Hessian, μ-floor stop).
-    pub floor_iters: usize,
 }
 
 impl Barrier {

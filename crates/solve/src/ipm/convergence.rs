@@ -8,8 +8,8 @@
 //! tolerances (IPOPT), `Acceptable` after `acceptable_iter` consecutive iterates with E₀ ≤
 //! acceptable_tol (and unscaled primal and complementarity errors ≤ 1e-2).
 
-use crate::ipm::algorithm::Ipm;
 use crate::ipm::iterate::{inf_norm, one_norm, NO_SLACK};
+use crate::ipm::workspace::Ipm;
 use crate::observer::Diagnostic;
 use crate::solver::{IterationRecord, SolveStatus};
 

@@ -8,9 +8,9 @@
 // Index loops over several parallel arrays are clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use crate::ipm::algorithm::Ipm;
-use crate::ipm::direction::{bound_multiplier_steps, Out, Residual, Step, Targets};
+use crate::ipm::direction::{bound_multiplier_steps, Out, Residual, Targets};
 use crate::ipm::iterate::{dual_fraction_to_boundary, fraction_to_boundary, Iterate};
+use crate::ipm::workspace::{Correctors, Ipm, Step};
 use crate::observer::Diagnostic;
 use crate::solver::SolveError;
 
@@ -23,23 +23,6 @@ const CORRECTOR_AIM_ADD: f64 = 0.1;
 /// A corrected direction is kept if its step size is at least this factor times the
 /// previous one's.
 const CORRECTOR_GAIN: f64 = 1.1;
-
-/// Complementarity targets beyond μ of the kept correctors and of the one being tried,
-/// with the tried direction.
-pub(super) struct Correctors {
-    /// Kept targets t_L, t_U.
-    pub tl: Vec<f64>,
-    pub tu: Vec<f64>,
-    /// Targets of the corrector being tried.
-    pub tl_c: Vec<f64>,
-    pub tu_c: Vec<f64>,
-    /// The direction of the corrector being tried.
-    pub trial: Step,
-    /// Whether the iteration's direction carries kept targets.
-    pub targets_on: bool,
-    /// Correctors kept over the solve.
-    pub kept: usize,
-}
 
 impl Correctors {
     /// Buffers for `big_n` variables and `m` constraints, empty when `enabled` is false.

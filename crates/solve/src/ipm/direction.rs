@@ -12,7 +12,6 @@
 
 use std::time::Instant;
 
-use crate::ipm::algorithm::Ipm;
 use crate::ipm::barrier::MU_MAX;
 use crate::ipm::inertia::{KktStructure, KktSystem};
 use crate::ipm::iterate::{dual_fraction_to_boundary, fraction_to_boundary, Iterate, NO_SLACK};
@@ -20,22 +19,9 @@ use crate::ipm::lbfgs::LowRankCorrection;
 use crate::ipm::linsys::KktSolver;
 use crate::ipm::mu_oracle::choose_sigma;
 use crate::ipm::refine::{refine_solutions, RegularisedSystem};
+use crate::ipm::workspace::{Ipm, Newton, Step};
 use crate::observer::Emitter;
 use crate::solver::{MuOracle, SolveError};
-
-/// A primal-dual step: primal (with slacks), constraint-multiplier and bound-multiplier
-/// parts (the last two may be empty where only dw, dλ are kept).
-#[derive(Default)]
-pub(super) struct Step {
-    /// Primal step over w = (x, s).
-    pub dw: Vec<f64>,
-    /// Constraint-multiplier step.
-    pub dlam: Vec<f64>,
-    /// Lower-bound multiplier step.
-    pub dzl: Vec<f64>,
-    /// Upper-bound multiplier step.
-    pub dzu: Vec<f64>,
-}
 
 impl Step {
     /// A zero step over `big_n` variables and `m` constraints (`bound` multipliers if set).
@@ -57,31 +43,6 @@ pub(super) struct NewtonRhs<'x> {
     pub mu: f64,
     pub targets: Option<(&'x [f64], &'x [f64])>,
     pub r: &'x [f64],
-}
-
-/// Buffers of the Newton steps of one iteration.
-pub(super) struct Newton {
-    /// The search direction of the iteration.
-    pub main: Step,
-    /// Step for μ = 0 (or for μ in fixed mode) from the iteration's block solve.
-    pub aff: Step,
-    /// Step for μ = average complementarity from the block solve.
-    pub avg: Step,
-    /// Second-order-correction step.
-    pub soc: Step,
-    /// Slack residuals of the last right-hand side.
-    r_s: Vec<f64>,
-    /// Right-hand sides (then solutions) of the block solve, their slack residuals, and a
-    /// copy of the block.
-    early_rhs: Vec<f64>,
-    early_rs: Vec<f64>,
-    early_block: Vec<f64>,
-    /// The limited-memory correction of this iteration's factorisation, in use when
-    /// `correction_active`.
-    correction: LowRankCorrection,
-    correction_active: bool,
-    /// Whether `aff` (and `avg`) hold this iteration's block-solved steps.
-    pub early_ready: bool,
 }
 
 impl Newton {

@@ -12,13 +12,12 @@
 // Index loops over several parallel arrays are clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use crate::ipm::algorithm::Ipm;
 use crate::ipm::direction::{Out, Residual, Targets};
 use crate::ipm::filter::{Filter, LsReference};
 use crate::ipm::iterate::{
     barrier_directional_derivative, evaluate_trial, fraction_to_boundary, inf_norm, one_norm,
-    Iterate,
 };
+use crate::ipm::workspace::{Ipm, LineSearch, Watchdog};
 use crate::observer::Diagnostic;
 use crate::solver::SolveError;
 
@@ -30,48 +29,6 @@ const KAPPA_SOC: f64 = 0.99;
 const WATCHDOG_TRIAL_MAX: usize = 3;
 /// Trial points of one backtracking at most.
 const MAX_TRIALS: usize = 60;
-
-/// What the watchdog keeps from the iteration where it started: the iterate, its search
-/// direction and line-search references, so that it can return there.
-pub(super) struct Watchdog {
-    st: Iterate,
-    dw: Vec<f64>,
-    dlam: Vec<f64>,
-    reference: LsReference,
-    alpha_max: f64,
-    alpha_min: f64,
-    mu: f64,
-    /// full steps taken so far without one acceptable to the watchdog's references
-    trials: usize,
-}
-
-/// Line-search state across iterations and the trial-point buffers.
-pub(super) struct LineSearch {
-    /// The filter of the current μ.
-    pub filter: Filter,
-    /// θ_max and θ_min, set from θ at the first iterate.
-    pub theta_max: f64,
-    pub theta_min: f64,
-    /// The active watchdog, if any.
-    pub watchdog: Option<Watchdog>,
-    /// Consecutive shortened steps (the watchdog trigger).
-    pub shortened_steps: usize,
-    /// Watchdog starts and returns over the solve.
-    pub watchdog_starts: usize,
-    pub watchdog_returns: usize,
-    /// Consecutive failed line searches.
-    pub failures: usize,
-    /// The last accepted step was at round-off level (IPOPT's tiny-step flag).
-    pub tiny_step: bool,
-    /// Trial point w + α d, its constraint values and residual.
-    pub wt: Vec<f64>,
-    pub ct: Vec<f64>,
-    pub rt: Vec<f64>,
-    /// Accumulated residual of the second-order correction.
-    pub soc_rhs_r: Vec<f64>,
-    /// Lagrangian gradient at the trial iterate of soft restoration.
-    pub gl_trial: Vec<f64>,
-}
 
 impl LineSearch {
     /// State and buffers for `big_n` variables and `m` constraints, with room for a filter

@@ -1,6 +1,9 @@
 //! stride's own pure-Rust primal-dual interior-point method (Wächter & Biegler 2006).
 //!
 //! - [`algorithm`]: the method as a type with one method per stage, and its iteration.
+//! - `workspace`: the data of a solve, apart from the method: the `Ipm` type and the
+//!   workspace types of its stages, below every stage (each stage file adds its
+//!   constructor and methods to them, `algorithm` builds and runs them).
 //! - stages: `setup` (starting point), `convergence` (optimality error, termination),
 //!   `barrier` (μ update), `inertia` (KKT factorisation with inertia correction),
 //!   `direction` (Newton steps, μ oracles), `correctors` (centrality correctors),
@@ -34,6 +37,7 @@ mod restoration;
 mod result;
 pub mod scaled;
 mod setup;
+mod workspace;
 
 use crate::nlp::Nlp;
 use crate::observer::Observer;

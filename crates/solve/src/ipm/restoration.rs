@@ -16,13 +16,13 @@
 
 use std::time::Instant;
 
-use crate::ipm::algorithm::Ipm;
 use crate::ipm::filter::Filter;
 use crate::ipm::inertia::{KktSystem, FIXED_DIAG};
 use crate::ipm::iterate::{fraction_to_boundary, inf_norm, one_norm, Iterate, NO_SLACK};
 use crate::ipm::line_search::Trial;
 use crate::ipm::linsys::KktSolver;
 use crate::ipm::scaled::ScaledNlp;
+use crate::ipm::workspace::Ipm;
 use crate::observer::{Diagnostic, Emitter};
 
 /// Largest number of feasibility-restoration steps after one failed line search.

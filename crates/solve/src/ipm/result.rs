@@ -1,7 +1,7 @@
 //! The result of a solve in the units of the unscaled problem, and its summary event.
 
-use crate::ipm::algorithm::Ipm;
 use crate::ipm::iterate::inf_norm;
+use crate::ipm::workspace::Ipm;
 use crate::observer::{Diagnostic, SolveSummary};
 use crate::solver::{SolveResult, SolveStatus};
 

@@ -3,9 +3,9 @@
 
 use std::ops::ControlFlow;
 
-use crate::ipm::algorithm::Ipm;
 use crate::ipm::barrier::{monotone_decrease, KAPPA_EPS};
 use crate::ipm::linsys::FaerLdlt;
+use crate::ipm::workspace::Ipm;
 use crate::ipm::InteriorPoint;
 use crate::nlp::{EvalError, Nlp, Sparsity};
 use crate::observer::{Diagnostic, Observer};
