@@ -31,6 +31,10 @@ pub struct TrackBenchArgs {
     /// Coarse mesh of the presolve [intervals; default as `stride track`; 0: none].
     #[arg(long, value_name = "INTERVALS")]
     pub presolve_mesh: Option<usize>,
+    /// Initial barrier parameter μ₀ of the solve from the measured kinematics [default: as
+    /// `stride track`].
+    #[arg(long)]
+    pub mu_init: Option<f64>,
 }
 
 /// Arguments of the hidden `stride bench track-one`.
@@ -51,6 +55,9 @@ pub struct TrackOneArgs {
     /// Coarse mesh of the presolve (0: none).
     #[arg(long)]
     pub presolve_mesh: Option<usize>,
+    /// Initial barrier parameter μ₀.
+    #[arg(long)]
+    pub mu_init: Option<f64>,
 }
 
 /// Measurements of one tracking case (the JSON line of `stride bench track-one`).
@@ -125,6 +132,9 @@ pub fn run(a: TrackBenchArgs) -> anyhow::Result<()> {
         if let Some(p) = a.presolve_mesh {
             cmd.args(["--presolve-mesh", &p.to_string()]);
         }
+        if let Some(m) = a.mu_init {
+            cmd.args(["--mu-init", &m.to_string()]);
+        }
         println!("{}", case_row(h.trim(), cmd)?);
         std::io::stdout().flush()?;
     }
@@ -192,6 +202,12 @@ pub fn run_one(a: TrackOneArgs) -> anyhow::Result<()> {
     let hessian = predict_cmd::parse_hessian(Some(&a.hessian), "ipm")?;
     let mut options = predict_cmd::prediction_options(None, Some(a.max_iter), hessian, None, None)?;
     options.threads = 1;
+    if let Some(m) = a.mu_init {
+        if !(m > 0.0 && m.is_finite()) {
+            bail!("--mu-init {m}: a positive barrier parameter");
+        }
+        options.mu_init = m;
+    }
     let model = stride_model::default_model::default_model();
     let tp = TrackingProblem::new(&model, &settings)?;
     let presolve = track_presolve_for(a.presolve_mesh, &tp.settings)?;
