@@ -316,6 +316,19 @@ fn a_calibration_writes_model_settings_that_give_the_calibrated_spheres() {
             c.name
         );
     }
+    // the same spheres as contact_geometry.toml, which the contact-models study reads
+    let text = std::fs::read_to_string(out.join("contact_geometry.toml")).unwrap();
+    let geometry: toml::Value = toml::from_str(&text).unwrap();
+    let listed = geometry["sphere"].as_array().unwrap();
+    assert_eq!(listed.len(), spheres.len());
+    for (g, e) in listed.iter().zip(spheres) {
+        assert_eq!(g["name"].as_str(), Some(e.name.as_str()));
+        assert_eq!(g["radius"].as_float(), Some(e.radius));
+        let location: Vec<f64> = (g["location"].as_array().unwrap().iter())
+            .map(|v| v.as_float().unwrap())
+            .collect();
+        assert_eq!(location, e.location.to_vec());
+    }
     // the rest of the model's settings are its shipped ones
     let own = stride_model::model_settings::ModelSettings::parse(shipped.settings, "gait1018");
     assert_eq!(settings.problem, own.unwrap().problem);
