@@ -9,6 +9,8 @@ use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::process::Command;
 use stride_ocp::tracking::{TrackSettings, TrackingProblem};
+use stride_predict::track::{solve_tracking, track_presolve_for};
+use stride_predict::track_output;
 
 /// Arguments of `stride bench track`.
 #[derive(Args)]
@@ -26,6 +28,13 @@ pub struct TrackBenchArgs {
     /// Iteration limit per solve.
     #[arg(long, default_value_t = 3000)]
     pub max_iter: usize,
+    /// Coarse mesh of the presolve [intervals; default as `stride track`; 0: none].
+    #[arg(long, value_name = "INTERVALS")]
+    pub presolve_mesh: Option<usize>,
+    /// Initial barrier parameter μ₀ of the solve from the measured kinematics [default: as
+    /// `stride track`].
+    #[arg(long)]
+    pub mu_init: Option<f64>,
 }
 
 /// Arguments of the hidden `stride bench track-one`.
@@ -43,6 +52,12 @@ pub struct TrackOneArgs {
     /// Iteration limit.
     #[arg(long)]
     pub max_iter: usize,
+    /// Coarse mesh of the presolve (0: none).
+    #[arg(long)]
+    pub presolve_mesh: Option<usize>,
+    /// Initial barrier parameter μ₀.
+    #[arg(long)]
+    pub mu_init: Option<f64>,
 }
 
 /// Measurements of one tracking case (the JSON line of `stride bench track-one`).
@@ -50,8 +65,14 @@ pub struct TrackOneArgs {
 pub struct TrackReport {
     /// Solver status.
     pub status: String,
-    /// Iterations performed.
+    /// Iterations performed on the requested mesh.
     pub iterations: usize,
+    /// Coarse mesh of the presolve, its status and iterations (None: no presolve).
+    pub presolve: Option<(usize, String, usize)>,
+    /// Largest joint-angle RMSE of the hips, knees and ankles [deg].
+    pub angle_rmse_deg: f64,
+    /// Vertical GRF RMSE of the right and left foot [% of body weight].
+    pub vertical_grf_percent_bw: [f64; 2],
     /// Iteration from which the hybrid Hessian was exact (None: never).
     pub exact_hessian_from: Option<usize>,
     /// Final objective (tracking cost, dimensionless).
@@ -74,7 +95,7 @@ pub struct TrackReport {
 
 /// Run `stride bench track`.
 pub fn run(a: TrackBenchArgs) -> anyhow::Result<()> {
-    settings(a.mesh, a.generic)?;
+    track_presolve_for(a.presolve_mesh, &settings(a.mesh, a.generic)?)?;
     if a.hessian.is_empty() {
         bail!("no hessian given");
     }
@@ -97,9 +118,9 @@ pub fn run(a: TrackBenchArgs) -> anyhow::Result<()> {
         a.max_iter
     );
     println!(
-        "| Hessian | status | iterations | exact from | objective | variables | process s | CPU s | solve s | evaluations s | linear s | factorisations s | peak RSS MiB |"
+        "| Hessian | status | presolve | iterations | exact from | objective | angle RMSE ° | vertical GRF RMSE % BW | variables | process s | CPU s | solve s | evaluations s | linear s | factorisations s | peak RSS MiB |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     std::io::stdout().flush()?;
     for h in &a.hessian {
         let mut cmd = Command::new(&exe);
@@ -107,6 +128,12 @@ pub fn run(a: TrackBenchArgs) -> anyhow::Result<()> {
             .args(["--hessian", h.trim(), "--max-iter", &a.max_iter.to_string()]);
         if a.generic {
             cmd.arg("--generic");
+        }
+        if let Some(p) = a.presolve_mesh {
+            cmd.args(["--presolve-mesh", &p.to_string()]);
+        }
+        if let Some(m) = a.mu_init {
+            cmd.args(["--mu-init", &m.to_string()]);
         }
         println!("{}", case_row(h.trim(), cmd)?);
         std::io::stdout().flush()?;
@@ -120,11 +147,17 @@ fn case_row(hessian: &str, mut cmd: Command) -> anyhow::Result<String> {
     let f2 = |v: f64| format!("{v:.2}");
     Ok(match report {
         Ok(r) => format!(
-            "| {hessian} | {} | {} | {} | {:.6} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {hessian} | {} | {} | {} | {} | {:.6} | {:.2} | {:.1} / {:.1} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.status,
+            r.presolve
+                .as_ref()
+                .map_or("–".into(), |(n, st, it)| format!("{n} intervals: {st}, {it} it")),
             r.iterations,
             r.exact_hessian_from.map_or("–".into(), |i| i.to_string()),
             r.objective,
+            r.angle_rmse_deg,
+            r.vertical_grf_percent_bw[0],
+            r.vertical_grf_percent_bw[1],
             r.variables,
             f2(process_s),
             r.cpu_s.map_or("n/a".into(), f2),
@@ -135,7 +168,7 @@ fn case_row(hessian: &str, mut cmd: Command) -> anyhow::Result<String> {
             r.peak_rss_kib
                 .map_or("n/a".into(), |k| format!("{:.0}", k as f64 / 1024.0)),
         ),
-        Err(why) => format!("| {hessian} | {why} | | | | | {process_s:.2} | | | | | | |"),
+        Err(why) => format!("| {hessian} | {why} | | | | | | | | {process_s:.2} | | | | | | |"),
     })
 }
 
@@ -169,13 +202,43 @@ pub fn run_one(a: TrackOneArgs) -> anyhow::Result<()> {
     let hessian = predict_cmd::parse_hessian(Some(&a.hessian), "ipm")?;
     let mut options = predict_cmd::prediction_options(None, Some(a.max_iter), hessian, None, None)?;
     options.threads = 1;
+    if let Some(m) = a.mu_init {
+        if !(m > 0.0 && m.is_finite()) {
+            bail!("--mu-init {m}: a positive barrier parameter");
+        }
+        options.mu_init = m;
+    }
     let model = stride_model::default_model::default_model();
     let tp = TrackingProblem::new(&model, &settings)?;
+    let presolve = track_presolve_for(a.presolve_mesh, &tp.settings)?;
     let solver = predict_cmd::backend("ipm")?;
-    let r = tp.solve(solver.as_ref(), &options, &|_| {})?;
+    let solved = solve_tracking(&model, tp, presolve, solver.as_ref(), &options, &|_, _| {})?;
+    let (tp, r) = (&solved.problem, &solved.result);
+    let errors = track_output::tracked(tp, &r.x)?
+        .errors(tp.problem.body_mass * stride_ocp::problem::GRAVITY);
+    let legs = ["hip_flexion", "knee_angle", "ankle_angle"];
+    let angle_rmse_deg = errors
+        .joint_angles
+        .iter()
+        .filter(|e| legs.iter().any(|n| e.name.starts_with(n)))
+        .fold(0.0, |m: f64, e| m.max(e.rmse));
+    let vertical = |foot: &str| {
+        errors
+            .grf
+            .iter()
+            .zip(&errors.grf_percent_body_weight)
+            .find(|(e, _)| e.name == format!("grf_{foot}_y"))
+            .map_or(f64::NAN, |(_, bw)| *bw)
+    };
     let report = TrackReport {
         status: format!("{:?}", r.status),
         iterations: r.iterations,
+        presolve: solved
+            .presolve
+            .as_ref()
+            .map(|p| (p.mesh_intervals, p.status.clone(), p.iterations)),
+        angle_rmse_deg,
+        vertical_grf_percent_bw: [vertical("right"), vertical("left")],
         exact_hessian_from: r.exact_hessian_from,
         objective: r.objective,
         variables: r.x.len(),

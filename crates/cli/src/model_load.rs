@@ -26,6 +26,17 @@ fn shipped_names() -> String {
     SHIPPED.map(|s| s.name).join(", ")
 }
 
+/// The model settings a model was built with, as a settings file would give them again.
+pub(crate) struct UsedSettings {
+    /// The settings (for a shipped model without a settings file: its shipped ones).
+    pub settings: ModelSettings,
+    /// How `--model` names the model: a shipped model's name, or the `.osim` file.
+    pub model: String,
+    /// The fitted muscle geometry file used (None: a shipped model's embedded geometry or
+    /// the per-user cache).
+    pub geometry: Option<PathBuf>,
+}
+
 /// Loads `model` (default: the built-in model; a shipped model's name; or an `.osim`
 /// file) with its settings file (`settings`, else the one beside it or shipped with it)
 /// and the muscle geometry of `geometry` when given, else the settings file's, else the
@@ -36,16 +47,35 @@ pub(crate) fn load_model(
     geometry: Option<&Path>,
     quiet: bool,
 ) -> anyhow::Result<Model> {
+    Ok(load_model_with_settings(model, settings, geometry, quiet)?.0)
+}
+
+/// [`load_model`], with the model settings it applied.
+pub(crate) fn load_model_with_settings(
+    model: Option<&Path>,
+    settings: Option<&Path>,
+    geometry: Option<&Path>,
+    quiet: bool,
+) -> anyhow::Result<(Model, UsedSettings)> {
     let Some(path) = model else {
+        let subject1 = shipped("subject1").context("the built-in model is not shipped")?;
         if settings.is_some() {
-            let subject1 = shipped("subject1").context("the built-in model is not shipped")?;
             return load_shipped(subject1, settings, geometry);
         }
         let mut m = stride_model::default_model::default_model();
         if let Some(g) = geometry {
             GeometryFile::read(g)?.apply(&mut m)?;
         }
-        return Ok(m);
+        let name = format!(
+            "{} (shipped settings of {})",
+            subject1.file_name, subject1.name
+        );
+        let used = UsedSettings {
+            settings: ModelSettings::parse(subject1.settings, &name)?,
+            model: subject1.name.into(),
+            geometry: geometry.map(Path::to_path_buf),
+        };
+        return Ok((m, used));
     };
     if let Some(s) = as_name(path) {
         if !path.exists() {
@@ -82,26 +112,33 @@ fn load_shipped(
     s: &ShippedModel,
     settings: Option<&Path>,
     geometry: Option<&Path>,
-) -> anyhow::Result<Model> {
+) -> anyhow::Result<(Model, UsedSettings)> {
     let mut m = stride_model::osim::parse_osim(s.osim, s.file_name)?;
-    let geometry = match settings {
+    let (ms, geometry) = match settings {
         Some(f) => {
             let ms = ModelSettings::read(f)?;
             ms.apply(&mut m, &f.display().to_string())?;
-            geometry.map(Path::to_path_buf).or(ms.geometry)
+            let g = geometry.map(Path::to_path_buf).or(ms.geometry.clone());
+            (ms, g)
         }
         None => {
             let name = format!("{} (shipped settings of {})", s.file_name, s.name);
-            ModelSettings::parse(s.settings, &name)?.apply(&mut m, &name)?;
-            geometry.map(Path::to_path_buf)
+            let ms = ModelSettings::parse(s.settings, &name)?;
+            ms.apply(&mut m, &name)?;
+            (ms, geometry.map(Path::to_path_buf))
         }
     };
-    let file = match geometry {
-        Some(g) => GeometryFile::read(&g)?,
+    let file = match &geometry {
+        Some(g) => GeometryFile::read(g)?,
         None => GeometryFile::parse(s.geometry, &format!("geometry of {}", s.name))?,
     };
     file.apply(&mut m)?;
-    Ok(m)
+    let used = UsedSettings {
+        settings: ms,
+        model: s.name.into(),
+        geometry,
+    };
+    Ok((m, used))
 }
 
 /// An `.osim` file with its settings and geometry.
@@ -110,7 +147,7 @@ fn load_file(
     settings: Option<&Path>,
     geometry: Option<&Path>,
     quiet: bool,
-) -> anyhow::Result<Model> {
+) -> anyhow::Result<(Model, UsedSettings)> {
     let bytes = std::fs::read(path).with_context(|| format!("reading model {}", path.display()))?;
     let text = String::from_utf8_lossy(&bytes);
     let mut m = stride_model::osim::parse_osim(&text, &path.display().to_string())?;
@@ -129,12 +166,20 @@ fn load_file(
     };
     let source = settings_file.map_or("default model settings".into(), |f| f.display().to_string());
     model_settings.apply(&mut m, &source)?;
-    let file = match geometry.or(model_settings.geometry.as_deref()) {
+    let geometry = geometry
+        .map(Path::to_path_buf)
+        .or(model_settings.geometry.clone());
+    let file = match &geometry {
         Some(g) => GeometryFile::read(g)?,
         None => cached_fit(&m, path, &bytes, quiet)?,
     };
     file.apply(&mut m)?;
-    Ok(m)
+    let used = UsedSettings {
+        settings: model_settings,
+        model: path.display().to_string(),
+        geometry,
+    };
+    Ok((m, used))
 }
 
 /// The cached fit of the model file `path` (content `bytes`), fitted on first use.
@@ -220,7 +265,9 @@ mod tests {
 
     #[test]
     fn the_shipped_subject1_import_is_the_built_in_model() {
-        let imported = load_shipped(shipped("subject1").unwrap(), None, None).unwrap();
+        let imported = load_shipped(shipped("subject1").unwrap(), None, None)
+            .unwrap()
+            .0;
         let built_in = default_model();
         assert_eq!(problem_data(&imported), problem_data(&built_in));
         let (j0, c0) = evaluate(&built_in);

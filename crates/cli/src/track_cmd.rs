@@ -1,16 +1,20 @@
 //! `stride track`: a tracking simulation (the paper's TrackSim of trial gait_1 with no
 //! arguments).
 
+use crate::model_load::UsedSettings;
 use crate::predict_cmd::{backend, check_correctors, parse_hessian, prediction_options};
 use anyhow::{bail, Context};
 use clap::Args;
 use serde::Deserialize;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Duration;
-use stride_ocp::tracking::{TrackSettings, TrackingProblem};
+use stride_ocp::tracking::{calibration, TrackSettings, TrackingProblem};
+use stride_predict::predict::MeshStage;
+use stride_predict::track::{solve_tracking, track_presolve_for, TrackSolved};
 use stride_predict::track_output;
+use stride_solve::solver::IterationRecord;
 
 /// Arguments of `stride track` (flags override the settings file).
 #[derive(Args)]
@@ -55,6 +59,12 @@ pub struct TrackArgs {
     /// Hessian: hybrid (default), limited-memory, or exact.
     #[arg(long)]
     pub hessian: Option<String>,
+    /// Coarse mesh of the presolve, intervals over the window: the problem is first solved
+    /// on this mesh and the requested mesh is solved from that optimum (slower on gait_1,
+    /// but to a lower optimum) [default: none, the requested mesh is solved directly from
+    /// the measured data; 0: none].
+    #[arg(long, value_name = "INTERVALS")]
+    pub presolve_mesh: Option<usize>,
     /// Convergence tolerance (default 1e-4).
     #[arg(long)]
     pub tol: Option<f64>,
@@ -82,6 +92,7 @@ struct SolverSection {
     hessian: Option<String>,
     tol: Option<f64>,
     max_iter: Option<usize>,
+    presolve_mesh: Option<usize>,
 }
 
 /// A tracking settings file.
@@ -124,6 +135,61 @@ fn settings(args: &TrackArgs, file: &TrackFile) -> anyhow::Result<TrackSettings>
     Ok(s)
 }
 
+/// The progress line of a tracking solve on stderr (at most every half second; nothing
+/// when `quiet`).
+fn progress_printer(quiet: bool) -> impl Fn(MeshStage, &IterationRecord) + Sync {
+    let last = Mutex::new(std::time::Instant::now());
+    move |stage, r| {
+        let mut t = last.lock().unwrap_or_else(|e| e.into_inner());
+        if !quiet && t.elapsed() > Duration::from_millis(500) {
+            *t = std::time::Instant::now();
+            let mesh = match stage {
+                MeshStage::Coarse(n) => format!("presolve {n:>3}"),
+                MeshStage::Final(n) => format!("mesh {n:>7}"),
+            };
+            eprint!(
+                "\rtrack {mesh} iter {:>5}  objective {:>12.5e}  inf_pr {:>8.2e}  inf_du {:>8.2e}  {:>7.1} s   ",
+                r.iter,
+                r.objective,
+                r.inf_pr,
+                r.inf_du,
+                r.elapsed.as_secs_f64()
+            );
+            let _ = std::io::stderr().flush();
+        }
+    }
+}
+
+/// Name of the model settings file with the calibrated contact spheres in a result folder.
+pub const CALIBRATED_MODEL_FILE: &str = "calibrated_model.toml";
+
+/// The model settings file of a contact calibration ([`CALIBRATED_MODEL_FILE`]): the
+/// settings the model was built with (`used`), its contact spheres those calibrated at the
+/// solution `x` of `tp`, the muscle-geometry path absolute (none for a shipped model's
+/// embedded geometry), so that `stride predict --model <model> --model-settings <file>`
+/// predicts with the calibrated spheres from anywhere.
+fn calibrated_model_file(
+    used: &UsedSettings,
+    tp: &TrackingProblem,
+    x: &[f64],
+) -> anyhow::Result<(String, Vec<u8>)> {
+    let model = &tp.problem.model;
+    let geometry = calibration::calibrated_geometry(model, &tp.statics, tp.static_variables(x));
+    let mut settings = geometry.into_settings(model, &used.settings)?;
+    settings.geometry = match &used.geometry {
+        Some(g) => Some(std::path::absolute(g).with_context(|| g.display().to_string())?),
+        None => None,
+    };
+    let body = toml::to_string(&settings).context("writing the calibrated model settings")?;
+    let text = format!(
+        "# Model settings of `{m}` with the contact spheres calibrated by `stride track \
+         --calibrate-contact` (FORMULATION 12.6).\n# Use: stride predict --model {m} \
+         --model-settings {CALIBRATED_MODEL_FILE}\n\n{body}",
+        m = used.model
+    );
+    Ok((CALIBRATED_MODEL_FILE.into(), text.into_bytes()))
+}
+
 /// Run `stride track`.
 pub fn run(args: TrackArgs) -> anyhow::Result<()> {
     let file: TrackFile = match &args.config {
@@ -148,7 +214,7 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
     )?;
     check_correctors(&options, "ipm")?;
     options.threads = args.threads.unwrap_or(0);
-    let model = crate::model_load::load_model(
+    let (model, used) = crate::model_load::load_model_with_settings(
         args.model
             .as_ref()
             .or(file.model.as_ref())
@@ -170,29 +236,59 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
         args.quiet,
     )?;
     let tp = TrackingProblem::new(&model, &settings)?;
+    let presolve = track_presolve_for(
+        args.presolve_mesh.or(file.solver.presolve_mesh),
+        &tp.settings,
+    )?;
     let solver = backend("ipm")?;
-    let quiet = args.quiet;
-    let last = Mutex::new(std::time::Instant::now());
-    let progress = |r: &stride_solve::solver::IterationRecord| {
-        let mut t = last.lock().unwrap_or_else(|e| e.into_inner());
-        if !quiet && t.elapsed() > Duration::from_millis(500) {
-            *t = std::time::Instant::now();
-            eprint!(
-                "\rtrack iter {:>5}  objective {:>12.5e}  inf_pr {:>8.2e}  inf_du {:>8.2e}  {:>7.1} s   ",
-                r.iter,
-                r.objective,
-                r.inf_pr,
-                r.inf_du,
-                r.elapsed.as_secs_f64()
-            );
-            let _ = std::io::stderr().flush();
-        }
-    };
-    let r = tp.solve(solver.as_ref(), &options, &progress)?;
-    if !quiet {
+    let solved = solve_tracking(
+        &model,
+        tp,
+        presolve,
+        solver.as_ref(),
+        &options,
+        &progress_printer(args.quiet),
+    )?;
+    if !args.quiet {
         eprintln!();
     }
-    let errors = track_output::write_results(&tp, &r, solver.name(), &options, &out, &[])?;
+    let (tp, r) = (&solved.problem, &solved.result);
+    let extra = match tp.settings.calibrate_contact {
+        true => vec![calibrated_model_file(&used, tp, &r.x)?],
+        false => Vec::new(),
+    };
+    let errors = track_output::write_results(
+        tp,
+        r,
+        solved.presolve.as_ref(),
+        solver.name(),
+        &options,
+        &out,
+        &extra,
+    )?;
+    print_outcome(&solved, &errors, &out);
+    println!("results in {}", out.display());
+    if !r.status.is_usable_start() {
+        std::process::exit(2);
+    }
+    Ok(())
+}
+
+/// Prints the outcome of a tracking solve: status, the coarse solve, the leg joint-angle
+/// and GRF errors, and where the calibrated spheres are.
+fn print_outcome(solved: &TrackSolved, errors: &track_output::TrackingErrors, out: &Path) {
+    let (tp, r) = (&solved.problem, &solved.result);
+    if let Some(p) = &solved.presolve {
+        println!(
+            "presolve on {} intervals: {} after {} iterations, objective {:.6}, {:.1} s{}",
+            p.mesh_intervals,
+            p.status,
+            p.iterations,
+            p.objective,
+            p.time_total_s,
+            if p.used { "" } else { " (not used)" }
+        );
+    }
     println!(
         "{:?} after {} iterations, objective {:.6}, violation {:.1e}, {:.1} s",
         r.status,
@@ -223,9 +319,4 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
             out.join("contact_geometry.toml").display()
         );
     }
-    println!("results in {}", out.display());
-    if !r.status.is_usable_start() {
-        std::process::exit(2);
-    }
-    Ok(())
 }

@@ -183,16 +183,28 @@ fn gait1018_tracking_its_own_prediction_reproduces_the_predicted_angles_within_1
         "ankle_angle_r",
         "lumbar_extension",
     ];
+    // every mesh point of the window, its first and last (the last data sample) included
+    let time = tracked.time();
+    assert!((time[0] - 0.0).abs() < 1e-9 && (time[time.len() - 1] - end).abs() < 1e-9);
     for name in angles {
         let model = tracked.column(name).unwrap();
-        let sq: f64 = tracked
-            .time()
+        let errors: Vec<f64> = time
             .iter()
             .zip(&model)
-            .map(|(&t, m)| (m - at(&predicted, name, t)).powi(2))
-            .sum();
-        let rmse = (sq / model.len() as f64).sqrt();
+            .map(|(&t, m)| m - at(&predicted, name, t))
+            .collect();
+        let rmse = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
+        let (k, max) = errors
+            .iter()
+            .map(|e| e.abs())
+            .enumerate()
+            .fold((0, 0.0), |m, (k, e)| if e > m.1 { (k, e) } else { m });
         assert!(rmse < 1.0, "{name}: RMSE {rmse:.3}° against the prediction");
+        assert!(
+            max < 1.0,
+            "{name}: {max:.3}° off the prediction at {:.4} s",
+            time[k]
+        );
     }
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
@@ -238,5 +250,87 @@ fn bad_input_is_rejected_for_another_model_too() {
         &["--grf", &s(&bad), "--window", "0,0.9"],
         "bad_grf.mot: no column `l_ground_torque_y`",
     );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_calibration_writes_model_settings_that_give_the_calibrated_spheres() {
+    let d = scratch("gait1018-calibrated");
+    let out = d.join("out");
+    let (motion, grf) = (s(&prediction("motion.mot")), s(&prediction("grf.mot")));
+    let run = common::stride(&gait1018_args(
+        &out,
+        &[
+            "--motion",
+            &motion,
+            "--grf",
+            &grf,
+            "--window",
+            "0.1,0.5",
+            "--mesh",
+            "8",
+            "--filter-cutoff",
+            "0",
+            "--calibrate-contact",
+            "--max-iter",
+            "40",
+        ],
+    ));
+    // the iteration limit may end the solve: the folder is written all the same
+    assert!(out.join("summary.json").is_file(), "{run:?}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let value = |name: String| {
+        let p = summary["static_parameters"].as_array().unwrap();
+        let p = p.iter().find(|p| p["name"] == name.as_str());
+        p.unwrap_or_else(|| panic!("no parameter {name}"))["value"]
+            .as_f64()
+            .unwrap()
+    };
+    let file = out.join("calibrated_model.toml");
+    let settings = stride_model::model_settings::ModelSettings::read(&file).unwrap();
+    let shipped = stride_model::shipped::shipped("gait1018").unwrap();
+    let mut model = stride_model::osim::parse_osim(shipped.osim, shipped.file_name).unwrap();
+    settings.apply(&mut model, &s(&file)).unwrap();
+    let spheres = &settings.contact.spheres;
+    assert_eq!(spheres.len(), model.contacts.len());
+    assert_eq!(spheres.len(), 4);
+    for (c, e) in model.contacts.iter().zip(spheres) {
+        assert_eq!(
+            (&c.name, c.location, c.radius),
+            (&e.name, e.location, e.radius)
+        );
+        // each right sphere's parameters, mirrored onto the left one
+        let right = c.name.replace("_l", "_r");
+        let z = value(format!("{right}_z")) * if c.name.ends_with("_l") { -1.0 } else { 1.0 };
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        assert!(
+            close(c.location[0], value(format!("{right}_x"))),
+            "{}",
+            c.name
+        );
+        assert!(close(c.location[2], z), "{}", c.name);
+        assert!(
+            close(c.radius, value(format!("{right}_radius"))),
+            "{}",
+            c.name
+        );
+    }
+    // the same spheres as contact_geometry.toml, which the contact-models study reads
+    let text = std::fs::read_to_string(out.join("contact_geometry.toml")).unwrap();
+    let geometry: toml::Value = toml::from_str(&text).unwrap();
+    let listed = geometry["sphere"].as_array().unwrap();
+    assert_eq!(listed.len(), spheres.len());
+    for (g, e) in listed.iter().zip(spheres) {
+        assert_eq!(g["name"].as_str(), Some(e.name.as_str()));
+        assert_eq!(g["radius"].as_float(), Some(e.radius));
+        let location: Vec<f64> = (g["location"].as_array().unwrap().iter())
+            .map(|v| v.as_float().unwrap())
+            .collect();
+        assert_eq!(location, e.location.to_vec());
+    }
+    // the rest of the model's settings are its shipped ones
+    let own = stride_model::model_settings::ModelSettings::parse(shipped.settings, "gait1018");
+    assert_eq!(settings.problem, own.unwrap().problem);
     let _ = std::fs::remove_dir_all(&d);
 }

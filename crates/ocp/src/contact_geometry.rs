@@ -11,6 +11,7 @@
 
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use stride_model::model_settings::{ModelSettings, SphereSetting};
 use stride_model::Model;
 
 /// Largest contact geometry file read [bytes].
@@ -80,6 +81,52 @@ impl ContactGeometry {
         format!("# {header}\n{body}")
     }
 
+    /// The model settings `settings` of `model` with these spheres: its `[contact]` sphere
+    /// list becomes every contact sphere of `model` (name, body), each listed sphere with
+    /// this geometry's centre and radius; the contact law and ground plane stay the
+    /// settings' when they list spheres, else they are the model's spheres' (an error
+    /// when these differ between spheres: a settings file gives one law to all). Every
+    /// other setting is kept. Building the model from the result gives it these spheres.
+    pub fn into_settings(
+        &self,
+        model: &Model,
+        settings: &ModelSettings,
+    ) -> Result<ModelSettings, ContactGeometryError> {
+        let mut out = settings.clone();
+        if settings.contact.spheres.is_empty() {
+            if let Some(first) = model.contacts.first() {
+                let law = |c: &stride_model::model::ContactSphere| {
+                    (c.parameters, c.plane_point, c.plane_normal)
+                };
+                if model.contacts.iter().any(|c| law(c) != law(first)) {
+                    return Err(ContactGeometryError {
+                        file: "model settings".into(),
+                        message: "the model's contact spheres differ in contact law or ground \
+                                  plane, which one [contact] section cannot give"
+                            .into(),
+                    });
+                }
+                out.contact.parameters = first.parameters;
+                out.contact.plane_point = first.plane_point;
+                out.contact.plane_normal = first.plane_normal;
+            }
+        }
+        out.contact.spheres = model
+            .contacts
+            .iter()
+            .map(|c| {
+                let e = self.sphere.iter().find(|e| e.name == c.name);
+                SphereSetting {
+                    name: c.name.clone(),
+                    body: model.bodies[c.body].name.clone(),
+                    location: e.map_or(c.location, |e| e.location),
+                    radius: e.map_or(c.radius, |e| e.radius),
+                }
+            })
+            .collect();
+        Ok(out)
+    }
+
     /// Replaces the centre and radius of every listed sphere of `model`; `file` names the
     /// source in errors (a sphere the model does not have, a radius that is not positive, a
     /// value that is not finite).
@@ -143,5 +190,31 @@ mod tests {
         };
         let e = g.apply(&mut model, "c.toml").unwrap_err().to_string();
         assert!(e.contains("c.toml") && e.contains("`heel`"), "{e}");
+    }
+
+    #[test]
+    fn settings_with_calibrated_spheres_give_a_model_with_those_spheres() {
+        let shipped = stride_model::shipped::shipped("subject1").unwrap();
+        let settings = ModelSettings::parse(shipped.settings, "subject1").unwrap();
+        let model = stride_model::default_model::default_model();
+        let mut g = ContactGeometry::of_model(&model);
+        g.sphere[2].location = [0.14, -0.02, 0.05];
+        g.sphere[2].radius = 0.035;
+        let calibrated = g.into_settings(&model, &settings).unwrap();
+        // through its file text, onto a fresh import of the model
+        let text = toml::to_string(&calibrated).unwrap();
+        let back = ModelSettings::parse(&text, "calibrated").unwrap();
+        assert_eq!(back.contact, calibrated.contact);
+        assert_eq!(back.passive_torques, settings.passive_torques);
+        let mut m = stride_model::osim::parse_osim(shipped.osim, shipped.file_name).unwrap();
+        back.apply(&mut m, "calibrated").unwrap();
+        assert_eq!(m.contacts.len(), model.contacts.len());
+        for (c, e) in m.contacts.iter().zip(&g.sphere) {
+            assert_eq!(
+                (&c.name, c.location, c.radius),
+                (&e.name, e.location, e.radius)
+            );
+        }
+        assert_eq!(m.contacts[0].parameters, model.contacts[0].parameters);
     }
 }

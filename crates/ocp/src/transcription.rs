@@ -277,6 +277,21 @@ pub struct TrackingData {
     pub n_data: usize,
     /// Fixed duration t_f [s].
     pub duration: f64,
+    /// Boundary states tracked by the cost besides the collocation points (the first
+    /// mesh point is none of them, the last only with the quadrature's smallest weight).
+    pub boundary: Vec<BoundaryTarget>,
+}
+
+/// A boundary state tracked by the cost: the term `weight (x[var] − target)²` joins the
+/// quadrature sum `S = Σ B_j L` of the cost `t_f / N · S` (scaled variables).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoundaryTarget {
+    /// Index of the NLP variable.
+    pub var: usize,
+    /// Its measured value (scaled).
+    pub target: f64,
+    /// Weight, in units of one collocation point's cost.
+    pub weight: f64,
 }
 
 /// The static parameters of a transcription (constant over time): NLP variables after the
@@ -340,6 +355,8 @@ pub struct Transcription<F: NodeFunction> {
     speed_pos: [usize; 3],
     hess_speed_pos: [usize; 3],
     hess_cost_pos: [usize; 5],
+    /// Hessian positions (var, var) and (t_f, var) of each tracked boundary state.
+    hess_boundary_pos: Vec<[usize; 2]>,
     jacobian: Sparsity,
     hessian: Sparsity,
     n_constraints: usize,
@@ -618,6 +635,9 @@ impl<F: NodeFunction> Transcription<F> {
             [NO_SLOT; 3]
         };
         let hess_speed_pos = [hb.slot(txn, tf), hb.slot(tx0, tf), hb.slot(tf, tf)];
+        let hess_boundary_pos = (tracking.iter().flat_map(|t| &t.boundary))
+            .map(|b| [hb.slot(b.var, b.var), hb.slot(tf, b.var)])
+            .collect();
         let hess_cost_pos = [
             hb.slot(tf, txn),
             hb.slot(tf, tx0),
@@ -666,6 +686,7 @@ impl<F: NodeFunction> Transcription<F> {
             speed_pos,
             hess_speed_pos,
             hess_cost_pos,
+            hess_boundary_pos,
             jacobian,
             hessian: hb.pattern,
             n_constraints,
@@ -716,6 +737,11 @@ impl<F: NodeFunction> Transcription<F> {
 
     /// Scale of the forward translation in the distance of the cost (0 when the cost is not
     /// divided by the distance).
+    /// The tracked boundary states (none for a prediction).
+    fn boundary(&self) -> impl Iterator<Item = &BoundaryTarget> {
+        self.tracking.iter().flat_map(|t| &t.boundary)
+    }
+
     fn cost_stx(&self) -> f64 {
         match self.tracking {
             Some(_) => 0.0,
@@ -789,7 +815,11 @@ impl<F: NodeFunction> Transcription<F> {
         let b = radau::quadrature_weights();
         let s: f64 = (0..self.n_nodes)
             .map(|i| b[i % 3] * values[i * self.n_out + self.n_path])
-            .sum();
+            .sum::<f64>()
+            + self
+                .boundary()
+                .map(|t| t.weight * (x[t.var] - t.target).powi(2))
+                .sum::<f64>();
         let (d, cc) = self.distance_factor(x);
         (s, d, x[self.problem.layout.tf()], cc)
     }
@@ -877,6 +907,9 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
                     let g = self.node_globals[i * nin + self.node_jac_pattern[e].1];
                     grad[g] += w * c.jac[i * nj + e];
                 }
+            }
+            for t in self.boundary() {
+                grad[t.var] += cc * tf * 2.0 * t.weight * (x[t.var] - t.target);
             }
             grad[self.problem.layout.tf()] += cc * s;
             grad[self.txn] -= cc * tf * s * stx / d;
@@ -1019,6 +1052,10 @@ impl<F: NodeFunction> Nlp for Transcription<F> {
         vals[self.hess_cost_pos[2]] += 2.0 * sc * tf * stx * stx / (d * d);
         vals[self.hess_cost_pos[3]] += 2.0 * sc * tf * stx * stx / (d * d);
         vals[self.hess_cost_pos[4]] += -2.0 * sc * tf * stx * stx / (d * d);
+        for (t, &[pvv, ptv]) in self.boundary().zip(&self.hess_boundary_pos) {
+            vals[pvv] += obj_factor * cc * tf * 2.0 * t.weight;
+            vals[ptv] += obj_factor * cc * 2.0 * t.weight * (x[t.var] - t.target);
+        }
         // Bilinear collocation terms h·u: ∂²/∂t_f∂u = coef/N.
         for (lr, hpos) in self.linear_rows.iter().zip(&self.linear_hess_pos) {
             let lam = lambda[lr.row];

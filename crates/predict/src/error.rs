@@ -11,6 +11,9 @@ pub enum PredictError {
     /// A guess could not be built.
     #[error(transparent)]
     Guess(#[from] stride_ocp::guess::GuessError),
+    /// A tracking problem could not be built or solved.
+    #[error(transparent)]
+    Track(#[from] stride_ocp::tracking::TrackError),
     /// An impossible presolve mesh.
     #[error("presolve_mesh {0}")]
     Presolve(String),

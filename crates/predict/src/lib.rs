@@ -7,6 +7,7 @@
 //! - [`solution`]: the kept solution of a result folder (`solution.json`).
 //! - [`outputs`]: the files of a result folder (OpenSim files, tables).
 //! - [`figures`]: the gait figures of a result folder, with the experimental reference.
+//! - [`track`]: tracking solves, first on a coarse mesh (the prediction's presolve).
 //! - [`track_output`]: the result folder of a tracking solve (`stride track`).
 //! - [`error`]: why a prediction or the writing of its results failed.
 
@@ -16,4 +17,5 @@ pub mod outputs;
 pub mod predict;
 pub mod results;
 pub mod solution;
+pub mod track;
 pub mod track_output;

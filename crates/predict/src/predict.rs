@@ -196,11 +196,21 @@ pub fn presolve_for(
     requested: Option<usize>,
     settings: &ProblemSettings,
 ) -> Result<Option<Presolve>, PredictError> {
-    let mesh = settings.mesh_intervals;
     let default = match settings.cycle {
         CycleKind::HalfSymmetric => PRESOLVE_MESH,
         CycleKind::FullPeriodic => 2 * PRESOLVE_MESH,
     };
+    presolve_of_mesh(requested, settings.mesh_intervals, default)
+}
+
+/// The presolve of a problem of `mesh` intervals for the requested coarse mesh: unset,
+/// `default` intervals when the mesh is finer than that, else none (`usize::MAX`: none);
+/// 0 for none; otherwise at least 2 intervals and fewer than the mesh.
+pub fn presolve_of_mesh(
+    requested: Option<usize>,
+    mesh: usize,
+    default: usize,
+) -> Result<Option<Presolve>, PredictError> {
     let bad = |reason: String| Err(PredictError::Presolve(reason));
     match requested {
         None if mesh > default => Ok(Some(Presolve {
@@ -311,19 +321,67 @@ pub struct ProgressSource {
     pub stage: MeshStage,
 }
 
-/// Solves `coarse` from its starting point, then `fine` from the resampled coarse optimum
-/// (warm) or, if the coarse solve failed, from `fine.x0` (cold). The time limit of `options`
-/// covers both solves; the report names `guess` and records the coarse solve. `progress`
-/// gets each iteration with its mesh; iterations and times count from the start of that
-/// mesh's solve.
-pub fn solve_presolved(
-    coarse: Stage,
-    fine: Stage,
-    guess: InitialGuess,
+/// A problem that can be solved on several meshes: what mesh sequencing needs of it (the
+/// gait problem of a prediction, a tracking problem).
+pub trait MeshProblem {
+    /// Mesh intervals of this problem.
+    fn mesh_intervals(&self) -> usize;
+    /// Solves this problem from the scaled NLP vector `x0` with `options`; `progress` gets
+    /// every iteration.
+    fn solve_from(
+        &self,
+        x0: Vec<f64>,
+        solver: &(dyn Solver + Sync),
+        options: &SolverOptions,
+        progress: &(dyn Fn(&IterationRecord) + Sync),
+    ) -> Result<SolveResult, PredictError>;
+    /// A starting point of this problem from the solution `x` of the same problem on the
+    /// mesh of `coarse` (resampled along the collocation polynomials).
+    fn start_from(&self, coarse: &Self, x: &[f64]) -> Result<Vec<f64>, PredictError>;
+}
+
+impl MeshProblem for Stage<'_> {
+    fn mesh_intervals(&self) -> usize {
+        self.problem.layout.n
+    }
+
+    fn solve_from(
+        &self,
+        x0: Vec<f64>,
+        solver: &(dyn Solver + Sync),
+        options: &SolverOptions,
+        progress: &(dyn Fn(&IterationRecord) + Sync),
+    ) -> Result<SolveResult, PredictError> {
+        solve_from(
+            self.problem,
+            self.tape.clone(),
+            x0,
+            solver,
+            options,
+            progress,
+        )
+    }
+
+    fn start_from(&self, coarse: &Self, x: &[f64]) -> Result<Vec<f64>, PredictError> {
+        self.problem
+            .guess_from_full_solution(coarse.problem, x)
+            .map_err(|e| PredictError::Solver(format!("presolve: {e}")))
+    }
+}
+
+/// Mesh sequencing (decision 0005): solves `coarse` from `coarse_x0`, then `fine` from the
+/// resampled coarse optimum (warm, [`warm_start_options`]) or, if the coarse solve failed,
+/// from `fine_x0` (cold). A hybrid coarse solve stops where μ reaches its floor. The time
+/// limit of `options` covers both solves. `progress` gets each iteration with its mesh;
+/// iterations and times count from the start of that mesh's solve. Returns the fine solve
+/// and the record of the coarse one.
+pub fn solve_sequenced<P: MeshProblem>(
+    (coarse, coarse_x0): (&P, Vec<f64>),
+    (fine, fine_x0): (&P, Vec<f64>),
     solver: &(dyn Solver + Sync),
     options: &SolverOptions,
     progress: &(dyn Fn(MeshStage, &IterationRecord) + Sync),
-) -> Result<Solved, PredictError> {
+) -> Result<(SolveResult, PresolveReport), PredictError> {
     let start = std::time::Instant::now();
     // the coarse optimum is only a starting point: a hybrid solve stops where μ reaches
     // its floor instead of converging in exact-Hessian steps (decision 0005)
@@ -331,27 +389,19 @@ pub fn solve_presolved(
         stop_at_mu_floor: matches!(options.hessian, HessianMode::Hybrid { .. }),
         ..options.clone()
     };
-    let coarse_stage = MeshStage::Coarse(coarse.problem.layout.n);
-    let r = solve_from(
-        coarse.problem,
-        coarse.tape,
-        coarse.x0,
-        solver,
-        &coarse_options,
-        &|rec| progress(coarse_stage, rec),
-    )?;
+    let coarse_stage = MeshStage::Coarse(coarse.mesh_intervals());
+    let r = coarse.solve_from(coarse_x0, solver, &coarse_options, &|rec| {
+        progress(coarse_stage, rec)
+    })?;
     let used = r.status.is_usable_start();
     let (x0, fine_options) = if used {
-        let x = fine
-            .problem
-            .guess_from_full_solution(coarse.problem, &r.x)
-            .map_err(|e| PredictError::Solver(format!("presolve: {e}")))?;
+        let x = fine.start_from(coarse, &r.x)?;
         (x, warm_start_options(solver, options))
     } else {
-        (fine.x0, options.clone())
+        (fine_x0, options.clone())
     };
     let report = PresolveReport {
-        mesh_intervals: coarse.problem.layout.n,
+        mesh_intervals: coarse.mesh_intervals(),
         status: format!("{:?}", r.status),
         used,
         iterations: r.iterations,
@@ -365,10 +415,26 @@ pub fn solve_presolved(
             .map(|t| t.saturating_sub(start.elapsed())),
         ..fine_options
     };
-    let fine_stage = MeshStage::Final(fine.problem.layout.n);
-    let rf = solve_from(fine.problem, fine.tape, x0, solver, &fine_options, &|rec| {
-        progress(fine_stage, rec)
-    })?;
+    let fine_stage = MeshStage::Final(fine.mesh_intervals());
+    let rf = fine.solve_from(x0, solver, &fine_options, &|rec| progress(fine_stage, rec))?;
+    Ok((rf, report))
+}
+
+/// Solves `coarse` from its starting point, then `fine` from the resampled coarse optimum
+/// (warm) or, if the coarse solve failed, from `fine.x0` (cold) ([`solve_sequenced`]). The
+/// time limit of `options` covers both solves; the report names `guess` and records the
+/// coarse solve. `progress` gets each iteration with its mesh.
+pub fn solve_presolved(
+    coarse: Stage,
+    fine: Stage,
+    guess: InitialGuess,
+    solver: &(dyn Solver + Sync),
+    options: &SolverOptions,
+    progress: &(dyn Fn(MeshStage, &IterationRecord) + Sync),
+) -> Result<Solved, PredictError> {
+    let (mut coarse, mut fine) = (coarse, fine);
+    let (cx0, fx0) = (std::mem::take(&mut coarse.x0), std::mem::take(&mut fine.x0));
+    let (rf, report) = solve_sequenced((&coarse, cx0), (&fine, fx0), solver, options, progress)?;
     let mut solved = Solved {
         report: GuessReport::new(guess, &rf),
         result: rf,

@@ -3,6 +3,7 @@
 //! motion, summary, solver log, figures), written atomically.
 
 use crate::figures::{render_files, NamedFigure};
+use crate::predict::PresolveReport;
 use serde::Serialize;
 use std::path::Path;
 use stride_files::result_dir::{write_staged, ResultKind};
@@ -213,6 +214,9 @@ pub struct TrackSummary<'a> {
     pub time_total_s: f64,
     /// Number of NLP variables.
     pub nlp_variables: usize,
+    /// The coarse-mesh solve the requested mesh started from (absent without a presolve).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub presolve: Option<&'a PresolveReport>,
     /// Tracking errors.
     pub errors: TrackingErrors,
     /// Calibrated static parameters (the contact calibration's, in m), with their bounds
@@ -250,6 +254,7 @@ fn write_err(path: &Path, e: impl std::fmt::Display) -> TrackError {
 pub fn write_results(
     tp: &TrackingProblem,
     r: &SolveResult,
+    presolve: Option<&PresolveReport>,
     solver: &str,
     options: &SolverOptions,
     out: &Path,
@@ -264,6 +269,7 @@ pub fn write_results(
         constraint_violation: r.constraint_violation,
         time_total_s: r.time_total.as_secs_f64(),
         nlp_variables: tp.problem.layout.len() + tp.statics.len(),
+        presolve,
         errors: errors.clone(),
         static_parameters: tp.statics.reports(tp.static_variables(&r.x)),
         settings: &tp.settings,
@@ -289,6 +295,12 @@ pub fn write_results(
         ),
         ("motion.mot".into(), motion(tp, &r.x).into_bytes()),
     ];
+    if let Some(p) = presolve {
+        files.push((
+            "solver_log_presolve.csv".into(),
+            crate::results::log_csv(&p.log).into_bytes(),
+        ));
+    }
     if !tracked.torques.is_empty() {
         files.push((
             "joint_torques.csv".into(),

@@ -17,7 +17,7 @@ use crate::range::Range;
 use crate::settings::{CycleKind, ProblemSettings};
 use crate::statics::StaticParameters;
 use crate::tape_node::TapeNode;
-use crate::transcription::{NodeInputs, StaticBlock, TrackingData, Transcription};
+use crate::transcription::{BoundaryTarget, NodeInputs, StaticBlock, TrackingData, Transcription};
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
@@ -238,10 +238,12 @@ impl TrackingProblem {
             .iter()
             .flat_map(|s| node_constants(&problem, &terms, s))
             .collect();
+        let boundary = boundary_targets(&problem, &terms, [trial.sample(t0), trial.sample(t1)]);
         let data = TrackingData {
             node_data,
             n_data: terms.n_data(),
             duration: t1 - t0,
+            boundary,
         };
         let statics = if settings.calibrate_contact {
             calibration::contact_parameters(&problem.model)?
@@ -295,14 +297,28 @@ impl TrackingProblem {
         &x[first..first + self.statics.len()]
     }
 
-    /// The transcribed NLP, its node function recorded on a tape.
+    /// The transcribed NLP, its node function recorded on a tape, starting from the
+    /// measured kinematics.
     pub fn transcription(&self) -> Result<Transcription<TapeNode>, TrackError> {
+        self.transcription_from(self.x0.clone())
+    }
+
+    /// The transcribed NLP starting from the scaled NLP vector `x0` (this mesh's layout,
+    /// then the static parameters).
+    pub fn transcription_from(&self, x0: Vec<f64>) -> Result<Transcription<TapeNode>, TrackError> {
+        let expected = self.problem.layout.len() + self.statics.len();
+        if x0.len() != expected {
+            return Err(TrackError::Solver(format!(
+                "starting point of {} values, the problem has {expected}",
+                x0.len()
+            )));
+        }
         let node = self.node()?;
         let tape = TapeNode::record(&node, &self.node_inputs(&self.x0, 0))?;
         Ok(Transcription::with_statics(
             self.problem.clone(),
             tape,
-            self.x0.clone(),
+            x0,
             Some(self.data.clone()),
             StaticBlock::of(&self.statics),
         ))
@@ -315,7 +331,18 @@ impl TrackingProblem {
         options: &SolverOptions,
         progress: &(dyn Fn(&IterationRecord) + Sync),
     ) -> Result<SolveResult, TrackError> {
-        let tr = self.transcription()?;
+        self.solve_from(self.x0.clone(), solver, options, progress)
+    }
+
+    /// Solve from the scaled NLP vector `x0` with `solver`; `progress` sees every iteration.
+    pub fn solve_from(
+        &self,
+        x0: Vec<f64>,
+        solver: &(dyn Solver + Sync),
+        options: &SolverOptions,
+        progress: &(dyn Fn(&IterationRecord) + Sync),
+    ) -> Result<SolveResult, TrackError> {
+        let tr = self.transcription_from(x0)?;
         let run = || {
             solver.solve(&tr, options, &mut |rec: &IterationRecord| {
                 progress(rec);
@@ -325,6 +352,27 @@ impl TrackingProblem {
         crate::threads::with_threads(options.threads, run)
             .map_err(|e| TrackError::Solver(e.to_string()))?
             .map_err(|e| TrackError::Solver(e.to_string()))
+    }
+
+    /// A starting point of this problem from the solution `x` of the same tracking problem
+    /// on another mesh (`coarse`): the mesh part resampled along the collocation
+    /// polynomials ([`GaitProblem::guess_from_full_solution`]), the static parameters
+    /// copied.
+    pub fn start_from(&self, coarse: &TrackingProblem, x: &[f64]) -> Result<Vec<f64>, TrackError> {
+        let n = coarse.problem.layout.len();
+        if x.len() != n + coarse.statics.len() || coarse.statics.len() != self.statics.len() {
+            return Err(TrackError::Solver(format!(
+                "a solution of {} values cannot start a problem of {} static parameters",
+                x.len(),
+                self.statics.len()
+            )));
+        }
+        let mut out = self
+            .problem
+            .guess_from_full_solution(&coarse.problem, &x[..n])
+            .map_err(|e| TrackError::Solver(format!("resampling the coarse solution: {e}")))?;
+        out.extend_from_slice(&x[n..]);
+        Ok(out)
     }
 }
 
@@ -367,6 +415,37 @@ fn tracking_terms(
         grt_scale: [1.0; 6],
         weights: settings.weights,
     })
+}
+
+/// Weight of the tracked positions at the first and the last mesh point, in collocation
+/// points' worth of the kinematics term: the trapezoid rule's end weight of one interval.
+/// Without it the first mesh point is not tracked and the last only with the Radau
+/// quadrature's smallest weight (1/9), so the free boundary states follow the effort terms
+/// and end up to 2° off a motion the model can reproduce.
+pub const BOUNDARY_WEIGHT: f64 = 0.5;
+
+/// The boundary targets of the tracked coordinates: positions at the first and last mesh
+/// point against the measured `ends` (window start and end).
+fn boundary_targets(
+    problem: &GaitProblem,
+    terms: &TrackingTerms,
+    ends: [Sample; 2],
+) -> Vec<BoundaryTarget> {
+    let l = &problem.layout;
+    let sq = &problem.scaling.q;
+    let weight = BOUNDARY_WEIGHT * terms.weights.kinematics / terms.coordinates.len().max(1) as f64;
+    let points = [Point::Mesh(0), Point::Mesh(l.n)];
+    points
+        .iter()
+        .zip(&ends)
+        .flat_map(|(&p, s)| {
+            terms.coordinates.iter().map(move |&i| BoundaryTarget {
+                var: l.q(p, i),
+                target: s.q[i] / sq[i],
+                weight,
+            })
+        })
+        .collect()
 }
 
 /// The constant node inputs of one measured sample (order of [`TrackingTerms::n_data`]).
