@@ -52,14 +52,14 @@ def arr(xs):
 
 
 def write(name, stem, header, mtp, distances, lumped, tendon_half=(), passive_shift=(), smoothing=None,
-          problem=()):
+          problem=(), top=()):
     osim = (OUT / name / f"{stem}.osim").read_text()
     coords = names(osim, "Coordinate")
     muscles = [m for tag in ("Thelen2003Muscle", "DeGrooteFregly2016Muscle", "Millard2012EquilibriumMuscle")
                for m in names(osim, tag)]
     passive = json.loads((REF / "joints/passive_moments.json").read_text())
     meta = json.loads((REF / "muscles/metabolic_parameters.json").read_text())["per_muscle_right_names"]
-    lines = [header, f'geometry = "{stem}.geometry.json"', ""]
+    lines = [header, f'geometry = "{stem}.geometry.json"'] + list(top) + [""]
     if problem:
         lines += ["[problem]"] + list(problem) + [""]
     limited = set()
@@ -121,10 +121,13 @@ write("dhondt2024", "DHondt_et_al_2024_4seg",
                   "# metabolic b = 100; ligament forces from the geometry file's ligament fits"),
       {"stiffness": 1.0, "damping": 0.1}, DISTANCES_3D, {}, ("soleus", "_gas"),
       ("soleus", "_gas", "per_", "tib_", "_dig_", "_hal_", "FDB"), 100.0,
-      problem=("# PredSim's N for this model: 100 mesh intervals per half cycle.", "mesh_intervals = 100"))
+      problem=("# PredSim's N for this model: 100 mesh intervals per half cycle.", "mesh_intervals = 100"),
+      top=("# PredSim's IG_pelvis_y of this model (settings_DHondt_et_al_2024_4seg.m), not derived from it.",
+           "standing_pelvis_height = 0.9385"))
 write("gait1018", "gait1018",
       HEAD.format(what="gait1018 (2D)", src="settings_gait1018.m: no distance constraints"),
       None, [], LUMPED_2D, ("soleus", "gastroc"),
       problem=("# PredSim's default speed of this model (settings_gait1018.m); the passive-torque",
                "# cost counts the limit torques only, as PredSim's.", "speed = 1.25",
-               'passive = { cost = "limit" }'))
+               'passive = { cost = "limit" }',
+               "# PredSim's duration guess (0.65 s at 1.25 and 1.33 m/s).", 'guess_duration = "predsim"'))

@@ -84,6 +84,10 @@ pub struct KktArgs {
     /// Repetitions per factorisation (the median is reported).
     #[arg(long, default_value_t = 3)]
     pub reps: usize,
+    /// Model: a shipped model's name or an `.osim` file (as `stride predict --model`), with
+    /// its settings file's problem defaults [default: the built-in model].
+    #[arg(long)]
+    pub model: Option<PathBuf>,
 }
 
 /// Arguments of `stride bench predict`.
@@ -292,11 +296,20 @@ fn derivatives(a: DerivativesArgs) -> anyhow::Result<()> {
 }
 
 fn kkt(a: KktArgs) -> anyhow::Result<()> {
-    let settings = nominal_settings(a.mesh)?;
     if a.reps == 0 {
         bail!("--reps 0: at least one repetition is needed");
     }
-    let model = stride_model::default_model::default_model();
+    let (model, settings) = match a.model {
+        None => (
+            stride_model::default_model::default_model(),
+            nominal_settings(a.mesh)?,
+        ),
+        Some(m) => {
+            let (path, settings) = predict_cmd::config_problem(None, Some(m), a.mesh)?;
+            let model = crate::model_load::load_model(path.as_deref(), None, None, true)?;
+            (model, settings)
+        }
+    };
     let b = crate::bench_nlp::kkt(&model, &settings, a.reps)?;
     print!("{}", crate::bench_nlp::kkt_table(&b));
     Ok(())

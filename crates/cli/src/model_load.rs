@@ -240,6 +240,7 @@ mod tests {
             "path_polynomials": m.path_polynomials, "ligaments": m.ligaments,
             "couplers": m.couplers, "coordinate_forces": m.coordinate_forces,
             "distance_constraints": m.distance_constraints,
+            "standing_pelvis_height": m.standing_pelvis_height,
         })
     }
 

@@ -451,6 +451,13 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
             g.time_evaluations_s
         );
         if let Some(p) = &g.presolve {
+            let use_note = match (&p.warm_start_failure, p.used) {
+                (Some(f), _) => {
+                    format!(" (the final mesh from it ended {f}: solved again from the guess)")
+                }
+                (None, false) => " (not used: solved from the guess)".to_string(),
+                (None, true) => String::new(),
+            };
             println!(
                 "{:<22} presolve on {} intervals: {} after {} iterations, objective {:.6}, {:.1} s{}",
                 "",
@@ -459,7 +466,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
                 p.iterations,
                 p.objective,
                 p.time_total_s,
-                if p.used { "" } else { " (not used: solved from the guess)" }
+                use_note
             );
         }
     }

@@ -54,10 +54,15 @@ pub fn default_model() -> Model {
             let mut m: Model = serde_json::from_str(DEFAULT_MODEL_JSON)
                 .expect("the shipped default_model.json is a valid stride model");
             m.distance_constraints = paper_distances();
+            m.standing_pelvis_height = Some(PAPER_STANDING_PELVIS_HEIGHT);
             m
         })
         .clone()
 }
+
+/// Standing pelvis height of the paper's model [m]: the pelvis height of its quasi-random
+/// initial guess (FORMULATION 10.1).
+pub const PAPER_STANDING_PELVIS_HEIGHT: f64 = 0.9385;
 
 /// The paper's distance constraints (calcanei 9 cm, femur–hand 18 cm, tibiae 11 cm).
 pub fn paper_distances() -> Vec<DistanceConstraint> {
@@ -111,6 +116,7 @@ pub fn build_default_model(reference_dir: &Path) -> Result<Model, DefaultModelEr
     let n = reference::add_arm_actuators(&mut m);
     expect("arm actuators", n, 8)?;
     m.distance_constraints = paper_distances();
+    m.standing_pelvis_height = Some(PAPER_STANDING_PELVIS_HEIGHT);
     Ok(m)
 }
 

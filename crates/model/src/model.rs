@@ -63,6 +63,11 @@ pub struct Model {
     /// (anti-clipping constraints, from the model's settings file).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub distance_constraints: Vec<DistanceConstraint>,
+    /// Height [m] of the pelvis origin above the ground when the model stands upright, when
+    /// its source gives one (the paper's 0.9385 m for the built-in model, a settings file's
+    /// `standing_pelvis_height`); `None`: a gait problem derives it from the default pose.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub standing_pelvis_height: Option<f64>,
 }
 
 /// A rigid body.
@@ -662,6 +667,7 @@ impl Default for Model {
             coordinate_forces: Vec::new(),
             source_file: None,
             distance_constraints: Vec::new(),
+            standing_pelvis_height: None,
         }
     }
 }

@@ -35,6 +35,28 @@ pub fn duration_guess(speed: f64) -> f64 {
     0.70 - 0.0175 * (speed - 0.73) / 0.1
 }
 
+/// PredSim's guess of the half-cycle duration [s] at a speed [m s⁻¹] (PREDSIM.md §7.5):
+/// listed speeds 0.73 + 0.1 k m s⁻¹ (k = 0…42) with durations 0.70 − 0.35 k/42 s, the entry
+/// of the first listed speed at or above `speed` (a speed within 1e-9 m s⁻¹ of a listed one
+/// is that one); above 4.93 m s⁻¹ 0.8277 − 0.175 v; never below 0.15 s. 0.65 s at 1.25 and
+/// 1.33 m s⁻¹.
+pub fn duration_guess_predsim(speed: f64) -> f64 {
+    const LISTED: usize = 42;
+    let t = match (0..=LISTED).find(|&k| 0.73 + 0.1 * k as f64 >= speed - 1e-9) {
+        Some(k) => 0.70 - 0.35 * k as f64 / LISTED as f64,
+        None => 0.8277 - 0.175 * speed,
+    };
+    t.max(0.15)
+}
+
+/// Half-cycle duration guess [s] of `rule` at `speed` [m s⁻¹].
+pub fn duration_guess_by(rule: crate::settings::DurationGuess, speed: f64) -> f64 {
+    match rule {
+        crate::settings::DurationGuess::Paper => duration_guess(speed),
+        crate::settings::DurationGuess::Predsim => duration_guess_predsim(speed),
+    }
+}
+
 /// Constant muscle and arm parts of every guess (activation 0.1, F̃_T 0.1, derivatives
 /// 0.01 s⁻¹, arm activation and excitation 0.1).
 #[derive(Clone, Copy, Debug)]
@@ -81,12 +103,13 @@ pub struct CoordinateGuess {
 }
 
 /// Quasi-random coordinates: all zero except forward translation spread over the distance
-/// t_f·v and vertical translation 0.9385 m; forward speed = v.
+/// t_f·v and vertical translation at the standing pelvis height `height` [m] (0.9385 m for
+/// the paper's model, [`crate::standing`]); forward speed = v.
 pub fn quasi_random(
     n: usize,
     nq: usize,
-    tx: usize,
-    ty: usize,
+    [tx, ty]: [usize; 2],
+    height: f64,
     tf: f64,
     speed: f64,
 ) -> CoordinateGuess {
@@ -95,7 +118,7 @@ pub fn quasi_random(
     let a = vec![vec![0.0; nq]; n];
     for k in 0..n {
         q[k][tx] = tf * speed * k as f64 / (n - 1) as f64;
-        q[k][ty] = 0.9385;
+        q[k][ty] = height;
         v[k][tx] = speed;
     }
     CoordinateGuess { q, v, a }
@@ -213,6 +236,19 @@ mod tests {
         assert!((duration_guess(0.73) - 0.70).abs() < 1e-12);
         assert!((duration_guess(2.73) - 0.35).abs() < 1e-12);
     }
+
+    #[test]
+    fn predsim_duration_guess_matches_its_table() {
+        // PREDSIM.md §7.5: listed speeds 0.73 + 0.1 k, durations 0.70 − 0.35 k/42; 0.65 s at
+        // 1.33 m/s; 1.25 m/s is not listed and takes the entry of 1.33 m/s.
+        let close = |v: f64, t: f64| (duration_guess_predsim(v) - t).abs() < 1e-12;
+        assert!(close(1.33, 0.65));
+        assert!(close(1.25, 0.65));
+        assert!(close(1.23, 0.70 - 0.35 * 5.0 / 42.0));
+        assert!(close(0.73, 0.70) && close(0.5, 0.70));
+        assert!(close(4.93, 0.35));
+        assert!(close(6.0, 0.15));
+    }
 }
 
 impl crate::problem::GaitProblem {
@@ -224,20 +260,20 @@ impl crate::problem::GaitProblem {
         data: Option<&Kinematics>,
     ) -> Result<Vec<f64>, GuessError> {
         let l = &self.layout;
+        let half_tf = duration_guess_by(self.settings.guess_duration, self.settings.speed);
         let tf = match self.settings.cycle {
-            crate::settings::CycleKind::HalfSymmetric => duration_guess(self.settings.speed),
-            crate::settings::CycleKind::FullPeriodic => 2.0 * duration_guess(self.settings.speed),
+            crate::settings::CycleKind::HalfSymmetric => half_tf,
+            crate::settings::CycleKind::FullPeriodic => 2.0 * half_tf,
         };
         let tx = self.gait.forward_translation;
+        let ty = self.gait.vertical_translation;
         let coords = match kind {
-            GuessKind::QuasiRandom => quasi_random(
-                l.n,
-                l.nq,
-                tx,
-                self.gait.vertical_translation,
-                tf,
-                self.settings.speed,
-            ),
+            GuessKind::QuasiRandom => {
+                let pelvis = self.model.coordinates[self.gait.coordinates[ty].model_index].joint;
+                let pelvis = self.model.joints[pelvis].child;
+                let height = crate::standing::standing_pelvis_height(&self.model, pelvis)?;
+                quasi_random(l.n, l.nq, [tx, ty], height, tf, self.settings.speed)
+            }
             GuessKind::DataInformedWalking | GuessKind::DataInformedRunning => {
                 let data = data.ok_or(GuessError::MissingData(kind))?;
                 data_informed(data, l.n, tx)
@@ -270,6 +306,9 @@ pub enum GuessError {
     /// A data-informed guess without data.
     #[error("the {0} guess needs experimental kinematics")]
     MissingData(GuessKind),
+    /// The quasi-random guess without a standing pelvis height.
+    #[error("quasi-random guess: {0}")]
+    Standing(#[from] crate::standing::StandingError),
 }
 
 /// Which part of a neighbouring optimal solution seeds a continuation guess
@@ -629,6 +668,22 @@ mod continuation_tests {
             &crate::bounds::bounds_data(&settings),
         )
         .unwrap()
+    }
+
+    #[test]
+    fn quasi_random_guess_of_the_paper_model_stands_at_the_papers_height() {
+        // FORMULATION 10.1: pelvis_ty 0.9385 m, t_f 0.595 s at 1.33 m/s, pelvis_tx from 0
+        // to t_f·v over mesh points 0..N−1
+        let p = problem(1.33);
+        let x = p.initial_guess(GuessKind::QuasiRandom, None).unwrap();
+        let (l, s) = (&p.layout, &p.scaling);
+        let (tx, ty) = (p.gait.forward_translation, p.gait.vertical_translation);
+        for k in [0, 4, l.n] {
+            assert!((x[l.q(Point::Mesh(k), ty)] * s.q[ty] - 0.9385).abs() < 1e-12);
+        }
+        assert!((x[l.tf()] - 0.595).abs() < 1e-12);
+        let last = x[l.q(Point::Mesh(l.n - 1), tx)] * s.q[tx];
+        assert!((last - 0.595 * 1.33).abs() < 1e-12);
     }
 
     #[test]

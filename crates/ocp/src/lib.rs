@@ -8,6 +8,7 @@
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
 //! - [`contact_geometry`]: contact-sphere geometry files (calibrated spheres).
+//! - [`standing`]: the standing pelvis height of a model (quasi-random guess).
 //! - [`statics`]: static parameters (constant over time) appended to the NLP vector.
 //! - [`outcomes`]: outcome measures of a predicted gait cycle.
 //! - [`measures`]: trunk sway and stance measures compared between conditions.
@@ -34,6 +35,7 @@ pub mod radau;
 pub mod range;
 pub mod settings;
 pub mod size;
+pub mod standing;
 pub mod statics;
 pub mod tape_node;
 pub mod threads;

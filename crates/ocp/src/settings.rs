@@ -52,6 +52,30 @@ pub struct ProblemSettings {
     /// Passive joint torques of models without a passive torque table, springs and
     /// damping of selected coordinates, and how the toes are driven.
     pub passive: crate::passive_rules::PassiveSettings,
+    /// Rule of the duration guess of the standard initial guesses: the paper's
+    /// (0.595 s at 1.33 m s⁻¹) or PredSim's table (0.65 s at 1.33 m s⁻¹).
+    #[serde(skip_serializing_if = "DurationGuess::is_paper")]
+    pub guess_duration: DurationGuess,
+}
+
+/// Rule of the half-cycle duration [s] that the quasi-random and data-informed guesses
+/// start from, as a function of the speed (FORMULATION 10, PREDSIM.md §7.5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DurationGuess {
+    /// The paper's: 0.70 s at 0.73 m s⁻¹, 0.0175 s shorter per 0.1 m s⁻¹.
+    #[default]
+    Paper,
+    /// PredSim's table: 0.70 s at 0.73 m s⁻¹, 0.35/42 s shorter per listed 0.1 m s⁻¹ step,
+    /// the entry of the first listed speed at or above the speed.
+    Predsim,
+}
+
+impl DurationGuess {
+    /// Whether this is the paper's rule (the default, left out of written settings).
+    pub fn is_paper(&self) -> bool {
+        *self == Self::Paper
+    }
 }
 
 /// Default half-width of the friction law's smoothed transition at v_slip = v_t (a
@@ -128,6 +152,7 @@ impl Default for ProblemSettings {
             prosthesis: None,
             contact_geometry: None,
             passive: Default::default(),
+            guess_duration: DurationGuess::Paper,
         }
     }
 }

@@ -17,7 +17,7 @@ use stride_ocp::tape_node::TapeNode;
 use stride_ocp::threads::with_threads;
 use stride_ocp::transcription::Transcription;
 use stride_solve::solver::{
-    ControlFlow, HessianMode, IterationRecord, SolveResult, Solver, SolverOptions,
+    ControlFlow, HessianMode, IterationRecord, SolveResult, SolveStatus, Solver, SolverOptions,
 };
 
 /// Outcome of one solve from one initial guess.
@@ -235,8 +235,13 @@ pub struct PresolveReport {
     /// Solver status of the coarse solve.
     pub status: String,
     /// Whether the fine solve started from the coarse optimum (false: the coarse solve did
-    /// not converge and the fine solve started from the guess itself).
+    /// not converge, or the fine solve broke down from its optimum, and the fine solve
+    /// started from the guess itself).
     pub used: bool,
+    /// How the fine solve from the coarse optimum ended when it broke down and the fine mesh
+    /// was solved again from the guess (status and iterations); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warm_start_failure: Option<String>,
     /// Iterations of the coarse solve.
     pub iterations: usize,
     /// Objective of the coarse optimum.
@@ -371,8 +376,10 @@ impl MeshProblem for Stage<'_> {
 
 /// Mesh sequencing (decision 0005): solves `coarse` from `coarse_x0`, then `fine` from the
 /// resampled coarse optimum (warm, [`warm_start_options`]) or, if the coarse solve failed,
-/// from `fine_x0` (cold). A hybrid coarse solve stops where μ reaches its floor. The time
-/// limit of `options` covers both solves. `progress` gets each iteration with its mesh;
+/// from `fine_x0` (cold); a warm fine solve that breaks down ([`warm_start_broke_down`]) is
+/// solved again from `fine_x0`, recorded in the report's `warm_start_failure`. A hybrid
+/// coarse solve stops where μ reaches its floor. The time limit of `options` covers all
+/// solves. `progress` gets each iteration with its mesh;
 /// iterations and times count from the start of that mesh's solve. Returns the fine solve
 /// and the record of the coarse one.
 pub fn solve_sequenced<P: MeshProblem>(
@@ -398,25 +405,38 @@ pub fn solve_sequenced<P: MeshProblem>(
         let x = fine.start_from(coarse, &r.x)?;
         (x, warm_start_options(solver, options))
     } else {
-        (fine_x0, options.clone())
+        (fine_x0.clone(), options.clone())
     };
-    let report = PresolveReport {
+    let mut report = PresolveReport {
         mesh_intervals: coarse.mesh_intervals(),
         status: format!("{:?}", r.status),
         used,
+        warm_start_failure: None,
         iterations: r.iterations,
         objective: r.objective,
         time_total_s: start.elapsed().as_secs_f64(),
         log: r.log,
     };
-    let fine_options = SolverOptions {
+    let remaining = |o: SolverOptions| SolverOptions {
         time_limit: options
             .time_limit
             .map(|t| t.saturating_sub(start.elapsed())),
-        ..fine_options
+        ..o
     };
     let fine_stage = MeshStage::Final(fine.mesh_intervals());
-    let rf = fine.solve_from(x0, solver, &fine_options, &|rec| progress(fine_stage, rec))?;
+    let fine_progress = |rec: &IterationRecord| progress(fine_stage, rec);
+    let mut rf = fine.solve_from(x0, solver, &remaining(fine_options), &fine_progress)?;
+    if used && warm_start_broke_down(&rf.status) {
+        // the coarse optimum only speeds the fine solve up; a fine solve that breaks down
+        // from it (a coarse optimum the fine mesh resolves badly) is solved again from the
+        // guess itself, as without a presolve
+        report.warm_start_failure = Some(format!(
+            "{:?} after {} iterations",
+            rf.status, rf.iterations
+        ));
+        report.used = false;
+        rf = fine.solve_from(fine_x0, solver, &remaining(options.clone()), &fine_progress)?;
+    }
     Ok((rf, report))
 }
 
@@ -441,6 +461,18 @@ pub fn solve_presolved(
     };
     solved.report.presolve = Some(report);
     Ok(solved)
+}
+
+/// Whether a fine solve from a coarse optimum ended in a breakdown (failed factorisation,
+/// infeasibility, stalled or diverging steps) rather than at a limit or on request.
+fn warm_start_broke_down(status: &SolveStatus) -> bool {
+    matches!(
+        status,
+        SolveStatus::Failed(_)
+            | SolveStatus::Infeasible
+            | SolveStatus::SmallStep
+            | SolveStatus::Diverging
+    )
 }
 
 /// Solve `model` with `settings` from each guess with `solver`, the guesses at the same time,

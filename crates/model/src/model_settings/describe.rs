@@ -30,6 +30,7 @@ impl ModelSettings {
         };
         let mut s = ModelSettings {
             gravity: Some(model.gravity),
+            standing_pelvis_height: model.standing_pelvis_height,
             distances: model.distance_constraints.clone(),
             ..Default::default()
         };

@@ -29,6 +29,11 @@ pub struct ModelSettings {
     /// Fitted muscle-geometry file (`stride model fit`), relative to the settings file;
     /// absent: the per-user cache, fitted on first use.
     pub geometry: Option<PathBuf>,
+    /// Height [m] of the pelvis origin above the ground when the model stands upright (the
+    /// pelvis height of the quasi-random initial guess); absent: derived from the model's
+    /// default pose (PREDSIM.md §7.5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub standing_pelvis_height: Option<f64>,
     /// Foot–ground contact spheres.
     pub contact: ContactSettings,
     /// Passive joint torques per coordinate.
@@ -354,6 +359,15 @@ impl ModelSettings {
                 return Err(err("gravity".into(), "must be finite".into()));
             }
             model.gravity = g;
+        }
+        if let Some(h) = self.standing_pelvis_height {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(err(
+                    "standing_pelvis_height".into(),
+                    format!("must be a positive height in metres, got {h}"),
+                ));
+            }
+            model.standing_pelvis_height = Some(h);
         }
         self.apply_contacts(model).map_err(|(k, m)| err(k, m))?;
         self.apply_passive_torques(model)
