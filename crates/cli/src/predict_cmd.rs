@@ -201,12 +201,7 @@ pub(crate) fn check_time_limit(t: f64) -> anyhow::Result<Duration> {
 /// with its status and files instead of iterating for hours.
 pub(crate) const DEFAULT_TIME_LIMIT_S: f64 = 1800.0;
 
-/// Largest constraint violation (unscaled, max-norm) of a converged prediction.
-pub(crate) const PREDICTION_CONSTR_VIOL_TOL: f64 = 1e-6;
-
-/// Centrality correctors per iteration of a hybrid-Hessian prediction unless set; they
-/// save iterations in the limited-memory phase (decision 0002).
-pub(crate) const HYBRID_CORRECTORS: usize = 2;
+pub(crate) use stride_predict::predict::{HYBRID_CORRECTORS, PREDICTION_CONSTR_VIOL_TOL};
 
 /// Solver options of a prediction: tolerance (default 1e-4), iteration limit (default
 /// 3000), Hessian choice, wall-time limit per solve [s] (default

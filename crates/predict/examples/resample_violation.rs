@@ -6,7 +6,7 @@ use stride_ocp::{
     tape_node::TapeNode, transcription::Transcription,
 };
 use stride_solve::nlp::Nlp;
-use stride_solve::solver::{HessianMode, MuStrategy, SolverOptions};
+use stride_solve::solver::SolverOptions;
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
@@ -23,13 +23,8 @@ fn main() {
         ..Default::default()
     };
     let options = SolverOptions {
-        tol: 1e-4,
-        mu_strategy: MuStrategy::Adaptive,
-        hessian: HessianMode::Hybrid { history: 6 },
-        centrality_correctors: 2,
-        constr_viol_tol: 1e-6,
         threads: 1,
-        ..Default::default()
+        ..stride_predict::predict::prediction_options()
     };
     let solver = stride_solve::ipm::InteriorPoint::new();
     let (coarse, solved) = stride_predict::predict::solve_guesses(

@@ -17,7 +17,8 @@ use stride_ocp::tape_node::TapeNode;
 use stride_ocp::threads::with_threads;
 use stride_ocp::transcription::Transcription;
 use stride_solve::solver::{
-    ControlFlow, HessianMode, IterationRecord, SolveResult, SolveStatus, Solver, SolverOptions,
+    ControlFlow, HessianMode, IterationRecord, MuStrategy, SolveResult, SolveStatus, Solver,
+    SolverOptions,
 };
 
 /// Outcome of one solve from one initial guess.
@@ -120,6 +121,29 @@ pub fn transcribe(
     let x0 = guess_point(&problem, g)?;
     let tape = TapeNode::for_problem(&problem, &node, &x0)?;
     Ok(Transcription::new(problem, tape, x0))
+}
+
+/// Largest constraint violation (unscaled, max-norm) of a converged prediction.
+pub const PREDICTION_CONSTR_VIOL_TOL: f64 = 1e-6;
+
+/// Centrality correctors per iteration of a hybrid-Hessian prediction unless set; they
+/// save iterations in the limited-memory phase (decision 0002).
+pub const HYBRID_CORRECTORS: usize = 2;
+
+/// The solver options of `stride predict` with stride's interior point and no other
+/// setting: scaled optimality tolerance 1e-4, 3000 iterations, the hybrid Hessian (6
+/// L-BFGS pairs) with [`HYBRID_CORRECTORS`], adaptive μ, constraint violation
+/// ≤ [`PREDICTION_CONSTR_VIOL_TOL`].
+pub fn prediction_options() -> SolverOptions {
+    SolverOptions {
+        tol: 1e-4,
+        max_iter: 3000,
+        hessian: HessianMode::Hybrid { history: 6 },
+        centrality_correctors: HYBRID_CORRECTORS,
+        mu_strategy: MuStrategy::Adaptive,
+        constr_viol_tol: PREDICTION_CONSTR_VIOL_TOL,
+        ..Default::default()
+    }
 }
 
 /// Initial barrier parameter of a solve that starts from an optimum (a neighbouring case's

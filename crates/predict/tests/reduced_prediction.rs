@@ -27,7 +27,7 @@ use stride_predict::predict::{select, solve_guesses};
 use stride_predict::results::{rewrite_folder, write_results, Rewritten};
 use stride_solve::ipm::InteriorPoint;
 use stride_solve::nlp::Nlp;
-use stride_solve::solver::{HessianMode, MuStrategy, SolveResult, SolveStatus, SolverOptions};
+use stride_solve::solver::{MuStrategy, SolveResult, SolveStatus, SolverOptions};
 
 /// Objective IPOPT reaches on this problem (10 intervals, data-informed guess, tol 1e-4).
 const IPOPT_OBJECTIVE: f64 = 301.523;
@@ -309,15 +309,10 @@ fn presolve_on_a_coarser_mesh_starts_near_feasible_and_converges() {
     };
     // the options of `stride predict` (hybrid Hessian, two centrality correctors)
     let options = SolverOptions {
-        tol: 1e-4,
-        mu_strategy: MuStrategy::Adaptive,
-        hessian: HessianMode::Hybrid { history: 6 },
-        centrality_correctors: 2,
-        constr_viol_tol: 1e-6,
         max_iter: 600,
         time_limit: Some(Duration::from_secs(1500)),
         threads: 2,
-        ..Default::default()
+        ..stride_predict::predict::prediction_options()
     };
     let solver = InteriorPoint::new();
     let presolve = stride_predict::predict::Presolve { mesh_intervals: 4 };
