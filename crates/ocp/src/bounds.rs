@@ -4,7 +4,9 @@
 //! coordinate (left and right pooled), [min − 2 range, max + 2 range] for positions and
 //! 3 ranges of margin for speeds and accelerations, then the paper's manual overrides.
 //! Coordinates the data do not cover (toes, midtarsal joints, …) get the model-only rule
-//! of [`crate::bounds_model`]. The scale factor of each quantity is max(|lower|, |upper|).
+//! of [`crate::bounds_model`]. With `bounds = "predsim"` ([`CoordinateBounds::predsim`])
+//! every coordinate gets that rule. The scale factor of each quantity is
+//! max(|lower|, |upper|).
 
 use crate::experimental::Kinematics;
 use crate::gait::{side_of, GaitModel};
@@ -40,6 +42,9 @@ pub enum BoundsError {
         hi: f64,
     },
 }
+
+/// Pelvis-height bounds of PredSim's rule as factors on the standing pelvis height.
+pub const PREDSIM_HEIGHT_FACTORS: [f64; 2] = [0.5, 1.2];
 
 /// Speed above which running is allowed and the bounds are widened [m s⁻¹].
 pub const RUNNING_SPEED_THRESHOLD: f64 = 1.33;
@@ -95,6 +100,49 @@ impl CoordinateBounds {
         }
         let mut b = Self { q, v, a };
         b.apply_paper_overrides(gait, &raw_q, settings.speed);
+        b.apply_settings(gait, settings)?;
+        Ok(b)
+    }
+
+    /// PredSim's bounds for every coordinate ([`crate::bounds_model::model_only`]), the
+    /// pelvis height within [0.5, 1.2] × `standing_height` [m] (the initial guess's pelvis
+    /// height), the forward position within [0, 2] m, then the user's overrides.
+    pub fn predsim(
+        gait: &GaitModel,
+        settings: &ProblemSettings,
+        standing_height: f64,
+    ) -> Result<Self, BoundsError> {
+        let rows = gait
+            .coordinates
+            .iter()
+            .map(|c| crate::bounds_model::model_only(&c.name, c.range));
+        let (mut q, mut v, mut a) = (Vec::new(), Vec::new(), Vec::new());
+        for [bq, bv, ba] in rows {
+            q.push(bq);
+            v.push(bv);
+            a.push(ba);
+        }
+        let mut b = Self { q, v, a };
+        b.q[gait.forward_translation] = Range { lo: 0.0, hi: 2.0 };
+        b.q[gait.vertical_translation] = Range {
+            lo: PREDSIM_HEIGHT_FACTORS[0] * standing_height,
+            hi: PREDSIM_HEIGHT_FACTORS[1] * standing_height,
+        };
+        if settings.speed > RUNNING_SPEED_THRESHOLD {
+            b.v[gait.forward_translation].hi = 4.0;
+        }
+        b.apply_settings(gait, settings)?;
+        Ok(b)
+    }
+
+    /// The user's coordinate bounds of `settings`; an unknown coordinate or an empty range
+    /// is an error.
+    fn apply_settings(
+        &mut self,
+        gait: &GaitModel,
+        settings: &ProblemSettings,
+    ) -> Result<(), BoundsError> {
+        let b = self;
         for o in &settings.coordinate_bounds {
             let i = gait
                 .index_of(&o.coordinate)
@@ -115,7 +163,7 @@ impl CoordinateBounds {
                 });
             }
         }
-        Ok(b)
+        Ok(())
     }
 
     /// The manual bounds of the reference implementation (ESM eqs 21–26 and 31–33), applied

@@ -6,7 +6,9 @@ use crate::experimental::Kinematics;
 use crate::gait::{GaitModel, GaitModelError};
 use crate::layout::{Layout, Point};
 use crate::passive_rules::PassiveCost;
-use crate::settings::{CycleKind, ProblemSettings, PROSTHESIS_BODIES, PROSTHESIS_REMOVED_MUSCLES};
+use crate::settings::{
+    BoundsRule, CycleKind, ProblemSettings, PROSTHESIS_BODIES, PROSTHESIS_REMOVED_MUSCLES,
+};
 use stride_model::Model;
 
 /// Scale factors: NLP variable = physical value / scale (FORMULATION 8.8).
@@ -232,7 +234,16 @@ impl GaitProblem {
             PassiveCost::Limit => true,
         };
         let data = Kinematics::matching(bounds_data, &gait, "bounds kinematics")?;
-        let bounds = CoordinateBounds::new(&gait, &data, settings)?;
+        let bounds = match settings.bounds {
+            BoundsRule::Data => CoordinateBounds::new(&gait, &data, settings)?,
+            BoundsRule::Predsim => {
+                let ty = &gait.coordinates[gait.vertical_translation];
+                let pelvis = model.joints[model.coordinates[ty.model_index].joint].child;
+                let height = crate::standing::standing_pelvis_height(&model, pelvis)
+                    .map_err(|e| ProblemError::Model(format!("bounds = \"predsim\": {e}")))?;
+                CoordinateBounds::predsim(&gait, settings, height)?
+            }
+        };
         let scaling = Scaling::new(&bounds);
         let na = gait.actuator_driven().len();
         let layout = Layout::new(settings.mesh_intervals, gait.nm(), gait.nq(), na);

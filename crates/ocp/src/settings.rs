@@ -56,6 +56,33 @@ pub struct ProblemSettings {
     /// (0.595 s at 1.33 m s⁻¹) or PredSim's table (0.65 s at 1.33 m s⁻¹).
     #[serde(skip_serializing_if = "DurationGuess::is_paper")]
     pub guess_duration: DurationGuess,
+    /// Rule of the coordinate, speed and acceleration bounds (and so of their scale
+    /// factors): the paper's, from experimental data matched by coordinate name, or
+    /// PredSim's default table for every coordinate.
+    #[serde(skip_serializing_if = "BoundsRule::is_data")]
+    pub bounds: BoundsRule,
+}
+
+/// Rule of the bounds of the coordinate-related variables (FORMULATION 8.7, PREDSIM.md §7.4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BoundsRule {
+    /// The paper's: experimental kinematics matched by coordinate name, widened (positions
+    /// 2 ranges, speeds and accelerations 3 ranges on each side), with its manual bounds;
+    /// coordinates without data get PredSim's rule.
+    #[default]
+    Data,
+    /// PredSim's for every coordinate: its default table by name, else the model's range
+    /// and ±10 / ±155 ranges for speed / acceleration; the pelvis height within [0.5, 1.2]
+    /// × the standing pelvis height; the forward position in [0, 2] m.
+    Predsim,
+}
+
+impl BoundsRule {
+    /// Whether this is the paper's rule (the default, left out of written settings).
+    pub fn is_data(&self) -> bool {
+        *self == Self::Data
+    }
 }
 
 /// Rule of the half-cycle duration [s] that the quasi-random and data-informed guesses
@@ -153,6 +180,7 @@ impl Default for ProblemSettings {
             contact_geometry: None,
             passive: Default::default(),
             guess_duration: DurationGuess::Paper,
+            bounds: BoundsRule::Data,
         }
     }
 }

@@ -1,5 +1,6 @@
 //! PredSim's three models (`Falisse_et_al_2022`, `gait1018`, `DHondt_et_al_2024_4seg`)
-//! as gait problems: bounds from the data where they match and from the model where not,
+//! as gait problems: bounds from the data where they match and from the model where not
+//! (or PredSim's table for every coordinate),
 //! PredSim's limit torques (analytic values), the toes driven by their passive torque,
 //! the 2D model's gait view, and derivatives of small problems (the four-segment foot
 //! model with its ligaments too) against finite differences, on the models as shipped (settings file and fitted geometry).
@@ -269,4 +270,78 @@ fn planar_model_derivatives_match_finite_differences() {
         ..Default::default()
     };
     check_first_derivatives(&shipped("gait1018"), &s);
+}
+
+#[test]
+fn predsim_bounds_rule_takes_predsims_table_and_the_standing_height() {
+    use stride_ocp::settings::BoundsRule;
+    let m = shipped("gait1018");
+    let settings = |bounds| ProblemSettings {
+        mesh_intervals: 4,
+        bounds,
+        ..Default::default()
+    };
+    let s = settings(BoundsRule::Predsim);
+    let p = GaitProblem::new(&m, &s, &bounds_data(&s)).unwrap();
+    let i = |name: &str| p.gait.index_of(name).unwrap();
+    let close = |r: stride_ocp::range::Range, lo: f64, hi: f64, what: &str| {
+        assert!(
+            (r.lo - lo).abs() < 1e-12 && (r.hi - hi).abs() < 1e-12,
+            "{what}: {r:?} vs [{lo}, {hi}]"
+        );
+    };
+    // PREDSIM.md §7.4, Default_Coordinate_Bounds.csv (rad, rad/s, rad/s²)
+    let knee = i("knee_angle_r");
+    let hip = i("hip_flexion_l");
+    let table = [
+        (
+            p.bounds.q[knee],
+            [-3.05478772880409, 1.69794152173642],
+            "knee q",
+        ),
+        (
+            p.bounds.v[knee],
+            [-38.8846957065914, 39.5051541565237],
+            "knee v",
+        ),
+        (
+            p.bounds.a[knee],
+            [-435.367703797436, 441.781759234749],
+            "knee a",
+        ),
+        (
+            p.bounds.q[hip],
+            [-1.91811668705238, 2.11902321356129],
+            "hip q",
+        ),
+    ];
+    for (r, [lo, hi], what) in table {
+        close(r, lo, hi, what);
+    }
+    assert!((p.scaling.a[knee] - 441.781759234749).abs() < 1e-12);
+    // pelvis height: [0.5, 1.2] × the standing height, the sum of gait1018's joint
+    // offsets from the pelvis to the right calcaneus plus PredSim's 2.5 cm
+    let h = 0.063_835_397_331_130_1
+        + 0.396_907_245_921_447
+        + 0.415_694_825_374_905
+        + 0.038_339_127_654_237_4
+        + 0.025;
+    close(p.bounds.q[i("pelvis_ty")], 0.5 * h, 1.2 * h, "pelvis_ty");
+    close(p.bounds.q[i("pelvis_tx")], 0.0, 2.0, "pelvis_tx");
+    // the table's pelvis tilt allows 20° of forward tilt; the walking data's rule 2.93°
+    // (−0.051142 rad, the value PredSim's D'Hondt settings impose by hand)
+    let tilt = i("pelvis_tilt");
+    close(
+        p.bounds.q[tilt],
+        -0.349065850398866,
+        0.0672853815966567,
+        "pelvis_tilt",
+    );
+    let s = settings(BoundsRule::Data);
+    let d = GaitProblem::new(&m, &s, &bounds_data(&s)).unwrap();
+    assert!(
+        (d.bounds.q[tilt].lo + 0.051142).abs() < 1e-5,
+        "{:?}",
+        d.bounds.q[tilt]
+    );
 }
