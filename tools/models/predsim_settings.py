@@ -114,7 +114,9 @@ write("falisse2022", "Falisse_et_al_2022",
       {"stiffness": 25.0, "damping": 2.0}, DISTANCES_3D, {},
       problem=("# PredSim's mtp_type '2022paper': toes driven by their passive torque only;",
                "# the passive-torque cost counts the limit torques only.",
-               'passive = { toes = "passive", cost = "limit" }'))
+               'passive = { toes = "passive", cost = "limit" }',
+               "# PredSim's bounds (and so scale factors) of every coordinate: its default table by name.",
+               'bounds = "predsim"'))
 write("dhondt2024", "DHondt_et_al_2024_4seg",
       HEAD.format(what="DHondt_et_al_2024_4seg", src="settings_DHondt_et_al_2024_4seg.m: mtp k 1 N m/rad,\n"
                   "# k_T x 0.5 for the calf muscles, passive fibre shift 0.9 for the shank and foot muscles,\n"
@@ -130,4 +132,6 @@ write("gait1018", "gait1018",
       problem=("# PredSim's default speed of this model (settings_gait1018.m); the passive-torque",
                "# cost counts the limit torques only, as PredSim's.", "speed = 1.25",
                'passive = { cost = "limit" }',
-               "# PredSim's duration guess (0.65 s at 1.25 and 1.33 m/s).", 'guess_duration = "predsim"'))
+               "# PredSim's duration guess (0.65 s at 1.25 and 1.33 m/s).", 'guess_duration = "predsim"',
+               "# PredSim's bounds (and so scale factors) of every coordinate: its default table by name.",
+               'bounds = "predsim"'))
