@@ -538,6 +538,7 @@ mod tests {
                 cost: PassiveCost::Limit,
                 ..Default::default()
             },
+            bounds: stride_ocp::settings::BoundsRule::Predsim,
             ..Default::default()
         };
         assert_eq!(s, want);
