@@ -10,7 +10,7 @@ use stride_ocp::guess::GuessKind;
 use stride_ocp::model_defaults::ModelProblemDefaults;
 use stride_ocp::settings::{ProblemSettings, RunSettings};
 use stride_predict::{predict, results};
-use stride_solve::solver::{HessianMode, LinearSolver, MuStrategy, Solver, SolverOptions};
+use stride_solve::solver::{HessianMode, LinearSolver, Solver, SolverOptions};
 
 /// Arguments of `stride predict` (flags override the study file).
 #[derive(Args)]
@@ -201,7 +201,7 @@ pub(crate) fn check_time_limit(t: f64) -> anyhow::Result<Duration> {
 /// with its status and files instead of iterating for hours.
 pub(crate) const DEFAULT_TIME_LIMIT_S: f64 = 1800.0;
 
-pub(crate) use stride_predict::predict::{HYBRID_CORRECTORS, PREDICTION_CONSTR_VIOL_TOL};
+pub(crate) use stride_predict::predict::HYBRID_CORRECTORS;
 
 /// Solver options of a prediction: tolerance (default 1e-4), iteration limit (default
 /// 3000), Hessian choice, wall-time limit per solve [s] (default
@@ -227,9 +227,10 @@ pub(crate) fn prediction_options(
     let time_limit = Some(check_time_limit(
         time_limit.unwrap_or(DEFAULT_TIME_LIMIT_S),
     )?);
+    let base = stride_predict::predict::prediction_options();
     Ok(SolverOptions {
-        tol: tol.unwrap_or(1e-4),
-        max_iter: max_iter.unwrap_or(3000),
+        tol: tol.unwrap_or(base.tol),
+        max_iter: max_iter.unwrap_or(base.max_iter),
         hessian,
         linear_solver: linear_solver_from_env()?,
         centrality_correctors: correctors.unwrap_or(
@@ -239,10 +240,8 @@ pub(crate) fn prediction_options(
                 0
             },
         ),
-        mu_strategy: MuStrategy::Adaptive,
-        constr_viol_tol: PREDICTION_CONSTR_VIOL_TOL,
         time_limit,
-        ..Default::default()
+        ..base
     })
 }
 

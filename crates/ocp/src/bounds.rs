@@ -123,14 +123,11 @@ impl CoordinateBounds {
             a.push(ba);
         }
         let mut b = Self { q, v, a };
-        b.q[gait.forward_translation] = Range { lo: 0.0, hi: 2.0 };
+        b.set_forward(gait, settings.speed);
         b.q[gait.vertical_translation] = Range {
             lo: PREDSIM_HEIGHT_FACTORS[0] * standing_height,
             hi: PREDSIM_HEIGHT_FACTORS[1] * standing_height,
         };
-        if settings.speed > RUNNING_SPEED_THRESHOLD {
-            b.v[gait.forward_translation].hi = 4.0;
-        }
         b.apply_settings(gait, settings)?;
         Ok(b)
     }
@@ -169,10 +166,8 @@ impl CoordinateBounds {
     /// The manual bounds of the reference implementation (ESM eqs 21–26 and 31–33), applied
     /// to the coordinates of that name when the model has them.
     fn apply_paper_overrides(&mut self, gait: &GaitModel, raw_q: &[(f64, f64)], speed: f64) {
-        let tx = gait.forward_translation;
-        let ty = gait.vertical_translation;
-        self.q[tx] = Range { lo: 0.0, hi: 2.0 };
-        self.q[ty] = Range { lo: 0.75, hi: 1.1 };
+        self.set_forward(gait, speed);
+        self.q[gait.vertical_translation] = Range { lo: 0.75, hi: 1.1 };
         let running = speed > RUNNING_SPEED_THRESHOLD;
         for (i, c) in gait.coordinates.iter().enumerate() {
             let (base, _) = side_of(&c.name);
@@ -185,7 +180,14 @@ impl CoordinateBounds {
                 _ => {}
             }
         }
-        if running {
+    }
+
+    /// The forward position within [0, 2] m, and above [`RUNNING_SPEED_THRESHOLD`] the
+    /// forward speed up to 4 m s⁻¹ (the paper's manual bounds, kept by PredSim's rule).
+    fn set_forward(&mut self, gait: &GaitModel, speed: f64) {
+        let tx = gait.forward_translation;
+        self.q[tx] = Range { lo: 0.0, hi: 2.0 };
+        if speed > RUNNING_SPEED_THRESHOLD {
             self.v[tx].hi = 4.0;
         }
     }

@@ -269,9 +269,7 @@ impl crate::problem::GaitProblem {
         let ty = self.gait.vertical_translation;
         let coords = match kind {
             GuessKind::QuasiRandom => {
-                let pelvis = self.model.coordinates[self.gait.coordinates[ty].model_index].joint;
-                let pelvis = self.model.joints[pelvis].child;
-                let height = crate::standing::standing_pelvis_height(&self.model, pelvis)?;
+                let height = crate::standing::gait_standing_height(&self.model, &self.gait)?;
                 quasi_random(l.n, l.nq, [tx, ty], height, tf, self.settings.speed)
             }
             GuessKind::DataInformedWalking | GuessKind::DataInformedRunning => {

@@ -237,9 +237,7 @@ impl GaitProblem {
         let bounds = match settings.bounds {
             BoundsRule::Data => CoordinateBounds::new(&gait, &data, settings)?,
             BoundsRule::Predsim => {
-                let ty = &gait.coordinates[gait.vertical_translation];
-                let pelvis = model.joints[model.coordinates[ty.model_index].joint].child;
-                let height = crate::standing::standing_pelvis_height(&model, pelvis)
+                let height = crate::standing::gait_standing_height(&model, &gait)
                     .map_err(|e| ProblemError::Model(format!("bounds = \"predsim\": {e}")))?;
                 CoordinateBounds::predsim(&gait, settings, height)?
             }

@@ -34,6 +34,17 @@ pub fn standing_pelvis_height(model: &Model, pelvis: usize) -> Result<f64, Stand
     }
 }
 
+/// Standing pelvis height [m] of `model` as [`standing_pelvis_height`], its pelvis the
+/// body moved by the vertical translation of its gait view `gait`.
+pub fn gait_standing_height(
+    model: &Model,
+    gait: &crate::gait::GaitModel,
+) -> Result<f64, StandingError> {
+    let ty = &gait.coordinates[gait.vertical_translation];
+    let pelvis = model.joints[model.coordinates[ty.model_index].joint].child;
+    standing_pelvis_height(model, pelvis)
+}
+
 /// PredSim's rule: pelvis origin height above the right calcaneus origin in the default
 /// pose (every coordinate at its default value) [m], plus [`FOOT_CLEARANCE`].
 pub fn default_pose_pelvis_height(model: &Model, pelvis: usize) -> Result<f64, StandingError> {

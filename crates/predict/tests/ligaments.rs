@@ -8,8 +8,7 @@
 
 mod common;
 
-use stride_geometry::{polynomial_length, GeometryFile};
-use stride_model::model_settings::ModelSettings;
+use stride_geometry::polynomial_length;
 use stride_model::Model;
 use stride_muscle::ligament::LigamentLaw;
 use stride_ocp::bounds::bounds_data;
@@ -20,21 +19,6 @@ use stride_ocp::{
     guess::GuessKind, node::NodeModel, problem::GaitProblem, settings::ProblemSettings,
 };
 use stride_predict::predict::guess_point;
-
-/// The shipped D'Hondt model with its settings file and fitted geometry.
-fn dhondt() -> Model {
-    let s = stride_model::shipped::shipped("dhondt2024").unwrap();
-    let mut m = stride_model::osim::parse_osim(s.osim, s.file_name).unwrap();
-    ModelSettings::parse(s.settings, "dhondt2024")
-        .unwrap()
-        .apply(&mut m, "dhondt2024")
-        .unwrap();
-    GeometryFile::parse(s.geometry, "dhondt2024")
-        .unwrap()
-        .apply(&mut m)
-        .unwrap();
-    m
-}
 
 /// A foot pose that stretches the plantar ligaments: dorsiflexed midtarsal and toes.
 fn stretched_pose(m: &Model) -> Vec<f64> {
@@ -54,7 +38,7 @@ fn stretched_pose(m: &Model) -> Vec<f64> {
 
 #[test]
 fn ligament_moment_is_minus_force_times_the_length_gradient() {
-    let m = dhondt();
+    let m = common::shipped_model("dhondt2024");
     assert_eq!(m.ligaments.len(), 26);
     let coords: Vec<usize> = (0..m.coordinates.len()).collect();
     let lig = Ligaments::new(&m, &coords).unwrap();
@@ -106,7 +90,7 @@ fn problem(m: &Model, mesh: usize) -> GaitProblem {
 
 #[test]
 fn ligaments_enter_the_torque_balances_of_their_coordinates_only() {
-    let with = dhondt();
+    let with = common::shipped_model("dhondt2024");
     let mut without = with.clone();
     without.ligaments.clear();
     let eval = |m: &Model| {
@@ -278,7 +262,7 @@ fn check_ligaments(
 
 #[test]
 fn result_tables_close_the_torque_balance_with_the_ligament_moments() {
-    let m = dhondt();
+    let m = common::shipped_model("dhondt2024");
     let p = problem(&m, 3);
     let node = NodeModel::new(&p).unwrap();
     let mut x = guess_point(&p, GuessKind::DataInformedWalking).unwrap();

@@ -5,8 +5,8 @@
 //! the 2D model's gait view, and derivatives of small problems (the four-segment foot
 //! model with its ligaments too) against finite differences, on the models as shipped (settings file and fitted geometry).
 
-use stride_geometry::GeometryFile;
-use stride_model::model_settings::ModelSettings;
+mod common;
+
 use stride_model::Model;
 use stride_ocp::bounds::bounds_data;
 use stride_ocp::passive_rules::{PassiveCost, ToeDrive};
@@ -16,21 +16,6 @@ use stride_ocp::{
 };
 use stride_predict::predict::guess_point;
 use stride_solve::nlp::{check_derivatives, DerivativeCheckOptions};
-
-/// A model shipped with stride, with its settings file and fitted geometry.
-fn shipped(name: &str) -> Model {
-    let s = stride_model::shipped::shipped(name).unwrap();
-    let mut m = stride_model::osim::parse_osim(s.osim, s.file_name).unwrap();
-    ModelSettings::parse(s.settings, name)
-        .unwrap()
-        .apply(&mut m, name)
-        .unwrap();
-    GeometryFile::parse(s.geometry, name)
-        .unwrap()
-        .apply(&mut m)
-        .unwrap();
-    m
-}
 
 /// PredSim's problem settings of the toes model: toes driven passively, limit torques
 /// only in the cost.
@@ -50,7 +35,7 @@ fn problem(m: &Model, s: &ProblemSettings) -> GaitProblem {
 
 #[test]
 fn toes_get_model_bounds_and_predsims_passive_torque() {
-    let m = shipped("falisse2022");
+    let m = common::shipped_model("falisse2022");
     let p = problem(&m, &toes_settings(4));
     assert_eq!(p.gait.nq(), 31);
     let i = p.gait.index_of("mtp_angle_l").unwrap();
@@ -109,7 +94,7 @@ fn toes_get_model_bounds_and_predsims_passive_torque() {
 #[test]
 fn the_arms_of_the_3d_models_are_arms_and_they_are_not_planar() {
     for name in ["subject1", "falisse2022"] {
-        let m = shipped(name);
+        let m = common::shipped_model(name);
         let p = problem(&m, &toes_settings(4));
         let g = &p.gait;
         let arms: Vec<&str> = g
@@ -126,7 +111,7 @@ fn the_arms_of_the_3d_models_are_arms_and_they_are_not_planar() {
 
 #[test]
 fn passive_toes_carry_no_muscle_moment() {
-    let m = shipped("falisse2022");
+    let m = common::shipped_model("falisse2022");
     for (toes, expect_muscle) in [(ToeDrive::Passive, false), (ToeDrive::Muscles, true)] {
         let mut s = toes_settings(3);
         s.passive.toes = toes;
@@ -172,7 +157,7 @@ fn passive_toes_carry_no_muscle_moment() {
 
 #[test]
 fn planar_model_has_no_lateral_coordinates_and_mirrors_its_legs() {
-    let m = shipped("gait1018");
+    let m = common::shipped_model("gait1018");
     let s = ProblemSettings {
         mesh_intervals: 4,
         ..Default::default()
@@ -252,7 +237,7 @@ fn check_first_derivatives(m: &Model, s: &ProblemSettings) {
 
 #[test]
 fn toes_model_derivatives_match_finite_differences() {
-    check_first_derivatives(&shipped("falisse2022"), &toes_settings(3));
+    check_first_derivatives(&common::shipped_model("falisse2022"), &toes_settings(3));
 }
 
 #[test]
@@ -260,7 +245,7 @@ fn four_segment_foot_model_derivatives_match_finite_differences() {
     // ligament moments, shifted passive fibres and metabolic b = 100 included
     let mut s = toes_settings(3);
     s.passive.toes = ToeDrive::Muscles;
-    check_first_derivatives(&shipped("dhondt2024"), &s);
+    check_first_derivatives(&common::shipped_model("dhondt2024"), &s);
 }
 
 #[test]
@@ -269,13 +254,13 @@ fn planar_model_derivatives_match_finite_differences() {
         mesh_intervals: 3,
         ..Default::default()
     };
-    check_first_derivatives(&shipped("gait1018"), &s);
+    check_first_derivatives(&common::shipped_model("gait1018"), &s);
 }
 
 #[test]
 fn predsim_bounds_rule_takes_predsims_table_and_the_standing_height() {
     use stride_ocp::settings::BoundsRule;
-    let m = shipped("gait1018");
+    let m = common::shipped_model("gait1018");
     let settings = |bounds| ProblemSettings {
         mesh_intervals: 4,
         bounds,

@@ -3,8 +3,9 @@
 //! scripted solver that answers each solve by the kind of start it gets (warm or cold), on
 //! gait1018 with 3 and 5 mesh intervals.
 
+mod common;
+
 use std::sync::Mutex;
-use stride_model::model_settings::ModelSettings;
 use stride_model::Model;
 use stride_ocp::guess::GuessKind;
 use stride_ocp::problem::GaitProblem;
@@ -75,20 +76,6 @@ impl Solver for Scripted {
 /// Each solve's start: whether it was warm, and its starting point.
 type Starts = Vec<(bool, Vec<f64>)>;
 
-fn gait1018() -> Model {
-    let s = stride_model::shipped::shipped("gait1018").unwrap();
-    let mut m = stride_model::osim::parse_osim(s.osim, s.file_name).unwrap();
-    ModelSettings::parse(s.settings, "gait1018")
-        .unwrap()
-        .apply(&mut m, "gait1018")
-        .unwrap();
-    stride_geometry::GeometryFile::parse(s.geometry, "gait1018")
-        .unwrap()
-        .apply(&mut m)
-        .unwrap();
-    m
-}
-
 fn problem(model: &Model, mesh_intervals: usize) -> GaitProblem {
     let s = ProblemSettings {
         mesh_intervals,
@@ -100,7 +87,7 @@ fn problem(model: &Model, mesh_intervals: usize) -> GaitProblem {
 /// Runs a presolved quasi-random guess with the scripted solver; returns the guess of
 /// the fine mesh, the solver's starts and the solve.
 fn run(warm: SolveStatus) -> (Vec<f64>, Starts, Solved) {
-    let m = gait1018();
+    let m = common::shipped_model("gait1018");
     let (coarse, fine) = (problem(&m, 3), problem(&m, 5));
     let g = GuessKind::QuasiRandom;
     let (xc, xf) = (

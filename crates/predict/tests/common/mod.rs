@@ -114,3 +114,20 @@ pub fn consistent(p: &GaitProblem, mut x: Vec<f64>) -> Vec<f64> {
     }
     x
 }
+
+/// The shipped model `name` with its settings file and fitted geometry applied.
+#[allow(dead_code)]
+pub fn shipped_model(name: &str) -> stride_model::Model {
+    use stride_model::model_settings::ModelSettings;
+    let s = stride_model::shipped::shipped(name).unwrap();
+    let mut m = stride_model::osim::parse_osim(s.osim, s.file_name).unwrap();
+    ModelSettings::parse(s.settings, name)
+        .unwrap()
+        .apply(&mut m, name)
+        .unwrap();
+    stride_geometry::GeometryFile::parse(s.geometry, name)
+        .unwrap()
+        .apply(&mut m)
+        .unwrap();
+    m
+}
