@@ -185,7 +185,8 @@ pub enum Diagnostic {
         narrow: usize,
     },
     /// One factorisation of the inertia correction (level 3): Hessian regularisation δ_w,
-    /// the inertia found and the one wanted (n positive, m negative).
+    /// the inertia found and the one wanted (n positive, m negative), and for a wrong
+    /// inertia in a solve that tests the step's curvature, whether the step passed.
     InertiaTrial {
         /// δ_w of the trial.
         delta_w: f64,
@@ -195,6 +196,8 @@ pub enum Diagnostic {
         positive: usize,
         /// Wanted negative eigenvalues (constraints).
         negative: usize,
+        /// Whether the Newton step had positive curvature (None: not tested).
+        curvature: Option<bool>,
     },
     /// One iterative-refinement residual of the KKT solve of right-hand side `column`
     /// (level 3).
@@ -332,10 +335,18 @@ impl fmt::Display for Diagnostic {
                 inertia,
                 positive,
                 negative,
-            } => write!(
-                f,
-                "    delta_w {delta_w:.2e}: inertia {inertia:?} (want {positive}, {negative})"
-            ),
+                curvature,
+            } => {
+                write!(
+                    f,
+                    "    delta_w {delta_w:.2e}: inertia {inertia:?} (want {positive}, {negative})"
+                )?;
+                match curvature {
+                    Some(true) => write!(f, ", step of positive curvature: kept"),
+                    Some(false) => write!(f, ", step of negative curvature"),
+                    None => Ok(()),
+                }
+            }
             Diagnostic::Refinement {
                 column,
                 residual,

@@ -22,7 +22,7 @@
 use std::time::Instant;
 
 use crate::ipm::direction::bound_multiplier_steps;
-use crate::ipm::inertia::{KktStructure, KktSystem};
+use crate::ipm::inertia::{CurvatureTest, KktStructure, KktSystem};
 use crate::ipm::iterate::dual_fraction_to_boundary;
 use crate::ipm::lbfgs::Lbfgs;
 use crate::ipm::line_search::Trial;
@@ -244,15 +244,28 @@ impl<'a> Ipm<'a> {
     /// solve, and in a warm-started solve while it is far from a solution: there the trial
     /// with 0 almost always fails again, and δ_w_last/3 is tried first (decisions 0002,
     /// 0005). Not from the start of an exact-Hessian solve: at 10 intervals that led to a
-    /// higher local optimum. Returns δ_w, or None when the matrix cannot be regularised.
+    /// higher local optimum. A warm-started exact solve also keeps a factor of the wrong
+    /// inertia when its Newton step has positive curvature and can be taken at least
+    /// half-way (the inertia-free test of Chiang & Zavala, decision 0005). Returns δ_w, or
+    /// None when the matrix cannot be regularised.
     fn factorise(&mut self) -> Result<Option<f64>, SolveError> {
         self.kkt.set_barrier_terms(&self.st);
         let b0 = self.lbfgs.as_ref().map_or(0.0, |q| q.lbfgs.sigma);
+        let inertia_free = self.o.warm_start && self.exact;
         let skip_zero = self.stats.exact_from.is_some()
             || (self.o.warm_start && self.opt.err0 > WARM_SKIP_ZERO_ERROR);
         let delta_w = self.kkt.first_delta_w(skip_zero);
+        let curvature = inertia_free.then(|| CurvatureTest {
+            mu: if self.barrier.adaptive {
+                0.0
+            } else {
+                self.barrier.mu
+            },
+            r: &self.opt.r,
+        });
         let (st, em) = (&self.st, &mut self.emitter);
-        self.kkt.factor_with_inertia_correction(st, b0, delta_w, em)
+        self.kkt
+            .factor_with_inertia_correction(st, b0, delta_w, curvature, em)
     }
 
     /// After the line search: the bound-multiplier steps and the dual step size, then, if

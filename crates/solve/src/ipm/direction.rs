@@ -351,11 +351,13 @@ impl Ipm<'_> {
         }
         let t_early = Instant::now();
         let lb = lbfgs.as_ref().map(|q| &q.lbfgs).filter(|lb| !lb.is_empty());
+        // the curvature test may have solved the one step already
+        let solved = k0 == 1 && kkt.tested_step.take() == Some(early_mus[0]);
         let early_ok = match lb {
             Some(lb) => correct_block(kkt, newton, lb, st.n, k0),
             None => {
                 newton.correction_active = false;
-                k0 > 0 && refined_block(kkt, newton, k0, emitter)
+                k0 > 0 && refined_block(kkt, newton, k0, solved, emitter)
             }
         };
         kkt.time += t_early.elapsed();
@@ -417,17 +419,21 @@ fn correct_block(
     early_ok
 }
 
-/// The `k0` Newton right-hand sides solved in one block and refined together. Whether it
-/// worked.
+/// The `k0` Newton right-hand sides solved in one block and refined together; with
+/// `solved`, the one right-hand side's solution is taken from `kkt.rhs` (the curvature
+/// test's solve of the same system). Whether it worked.
 fn refined_block(
     kkt: &mut KktSystem,
     newton: &mut Newton,
     k0: usize,
+    solved: bool,
     emitter: &mut Emitter,
 ) -> bool {
     newton.early_block.clear();
     newton.early_block.extend_from_slice(&newton.early_rhs);
-    if kkt.linear.solve_many(&mut newton.early_rhs, k0).is_err() {
+    if solved {
+        newton.early_rhs.copy_from_slice(&kkt.rhs);
+    } else if kkt.linear.solve_many(&mut newton.early_rhs, k0).is_err() {
         return false;
     }
     let reg = RegularisedSystem {

@@ -13,7 +13,8 @@
 
 use std::time::{Duration, Instant};
 
-use crate::ipm::iterate::{Iterate, NO_SLACK};
+use crate::ipm::direction::{newton_rhs, step_from_solution, NewtonRhs};
+use crate::ipm::iterate::{fraction_to_boundary, Iterate, NO_SLACK};
 use crate::ipm::kkt::KktPattern;
 use crate::ipm::linsys::{Counted, KktSolver};
 use crate::ipm::ordering::kkt_ordering;
@@ -43,6 +44,22 @@ const MAX_INERTIA_TRIALS: usize = 60;
 /// After a regularised iteration a later one may start from δ_w_last/`REG_DECREASE` instead
 /// of 0 (see [`KktSystem::first_delta_w`]) while that is at least this large.
 const REG_SKIP_ZERO_MIN: f64 = 1e-8;
+
+/// Smallest curvature dxᵀ(W + Σ + δ_w I)dx per squared length ‖dx‖² of the primal step for
+/// a factor of the wrong inertia to be used (scaled problem; Chiang & Zavala's α_n).
+const CURVATURE_MIN: f64 = 1e-8;
+/// Smallest fraction-to-boundary step size (τ = 0.99) of a step kept with a wrong inertia.
+const STEP_MIN: f64 = 0.5;
+
+/// The step the inertia-free curvature test solves for: the Newton step of barrier
+/// parameter μ and constraint residual r (the iteration's own step in fixed-μ mode, the
+/// affine-scaling step in free mode).
+pub(super) struct CurvatureTest<'r> {
+    /// Barrier parameter μ of the tested step.
+    pub mu: f64,
+    /// Constraint residual r of the tested step.
+    pub r: &'r [f64],
+}
 
 /// Which variables are fixed or appear nonlinearly, and the Jacobian's triplet indices.
 pub(super) struct KktStructure {
@@ -96,6 +113,14 @@ pub(super) struct KktSystem<'l> {
     pub factor_time: Duration,
     /// Numeric factorisations (restoration and initialisation included).
     pub factorizations: usize,
+    /// Slack residuals of the curvature test's right-hand side.
+    r_s: Vec<f64>,
+    /// When the factor was kept for the curvature test: μ of the Newton step it solved,
+    /// which `rhs` still holds (unrefined), so that the step need not be solved again.
+    pub tested_step: Option<f64>,
+    /// Primal step (with slacks) and multiplier step of the curvature test.
+    dw_test: Vec<f64>,
+    dlam_test: Vec<f64>,
 }
 
 impl<'l> KktSystem<'l> {
@@ -139,6 +164,10 @@ impl<'l> KktSystem<'l> {
             time_symbolic: Duration::ZERO,
             factor_time: Duration::ZERO,
             factorizations: 0,
+            r_s: Vec::new(),
+            tested_step: None,
+            dw_test: Vec::new(),
+            dlam_test: Vec::new(),
         };
         kkt.analyse(&prob.hess)?;
         kkt.time_symbolic = t.elapsed();
@@ -228,12 +257,14 @@ impl<'l> KktSystem<'l> {
 
     /// Assembles and factorises K with Hessian values `hv` (L-BFGS initial scaling `b0` on
     /// the nonlinear variables), increasing δ_w from `delta_w` until the inertia is (n, m,
-    /// 0). Returns the δ_w used, or None when no δ_w ≤ 1e40 gives that inertia.
+    /// 0), or, with `curvature`, until that inertia or a Newton step of positive curvature.
+    /// Returns the δ_w used, or None when no δ_w ≤ 1e40 gives either.
     pub fn factor_with_inertia_correction(
         &mut self,
         st: &Iterate,
         b0: f64,
         mut delta_w: f64,
+        curvature: Option<CurvatureTest>,
         emitter: &mut Emitter,
     ) -> Result<Option<f64>, SolveError> {
         let (n, m) = (st.n, st.m);
@@ -244,17 +275,28 @@ impl<'l> KktSystem<'l> {
         };
         let t_lin = Instant::now();
         let mut ok = false;
+        self.tested_step = None;
         for _ in 0..MAX_INERTIA_TRIALS {
             let inertia = self.factor_regularised(st, b0, delta_w)?;
+            let tested = match &curvature {
+                Some(test) if inertia != want && inertia.zero == 0 => {
+                    Some(self.usable_step(st, test)?)
+                }
+                _ => None,
+            };
             if emitter.wants(3) {
                 emitter.emit(Diagnostic::InertiaTrial {
                     delta_w,
                     inertia,
                     positive: n,
                     negative: m,
+                    curvature: tested,
                 });
             }
-            if inertia == want {
+            if inertia == want || tested == Some(true) {
+                if tested == Some(true) {
+                    self.tested_step = curvature.as_ref().map(|t| t.mu);
+                }
                 ok = true;
                 break;
             }
@@ -272,6 +314,66 @@ impl<'l> KktSystem<'l> {
         }
         self.regularised_last = delta_w > 0.0;
         Ok(Some(delta_w))
+    }
+
+    /// Whether the Newton step for the test's μ, solved with the current factor, is usable
+    /// although the factor's inertia is not (n, m, 0): its primal part dx has curvature
+    /// dxᵀ(W + Σ + δ_w I)dx ≥ κ‖dx‖² (the inertia-free test of Chiang & Zavala 2016), and
+    /// the fraction-to-boundary rule lets at least [`STEP_MIN`] of it be taken (a factor with
+    /// a nearly singular direction gives a step that runs into the bounds at once).
+    fn usable_step(&mut self, st: &Iterate, test: &CurvatureTest) -> Result<bool, SolveError> {
+        let sys = NewtonRhs {
+            st,
+            mu: test.mu,
+            targets: None,
+            r: test.r,
+        };
+        self.r_s.resize(st.row_of_slack.len(), 0.0);
+        newton_rhs(
+            &sys,
+            &self.structure,
+            &self.sigma,
+            &mut self.rhs,
+            &mut self.r_s,
+        );
+        self.linear
+            .solve(&mut self.rhs)
+            .map_err(|e| SolveError::Backend(e.to_string()))?;
+        let (curv, norm2) = self.curvature(&self.rhs[..st.n]);
+        if !(curv.is_finite() && curv >= CURVATURE_MIN * norm2) {
+            return Ok(false);
+        }
+        // and it must not run into the bounds at once (a near-singular direction)
+        self.dw_test.resize(st.big_n, 0.0);
+        self.dlam_test.resize(st.m, 0.0);
+        let parts = (&self.structure, &self.sigma[..]);
+        step_from_solution(
+            st,
+            &self.rhs,
+            &self.r_s,
+            parts,
+            &mut self.dw_test,
+            &mut self.dlam_test,
+        );
+        Ok(fraction_to_boundary(st, &st.w, &self.dw_test, 0.99) >= STEP_MIN)
+    }
+
+    /// The curvature dxᵀ(W + Σ + δ_w I)dx of the primal step `dx` from the assembled (1,1)
+    /// block, and ‖dx‖², both over the variables that are not fixed.
+    fn curvature(&self, dx: &[f64]) -> (f64, f64) {
+        let (p, fixed) = (&self.pattern, &self.structure.fixed_x);
+        let (mut curv, mut norm2) = (0.0, 0.0);
+        for j in (0..dx.len()).filter(|&j| !fixed[j]) {
+            norm2 += dx[j] * dx[j];
+            for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+                let i = p.row_idx[k];
+                if i < dx.len() && !fixed[i] {
+                    let v = self.vals[k] * dx[i] * dx[j];
+                    curv += if i == j { v } else { 2.0 * v };
+                }
+            }
+        }
+        (curv, norm2)
     }
 
     /// One numeric factorisation of K with Hessian regularisation `delta_w`.
@@ -365,8 +467,8 @@ mod tests {
         }
     }
 
-    /// Collects the δ_w of the inertia trials.
-    struct Trials(Vec<(f64, Inertia)>);
+    /// Collects the δ_w, inertia and curvature-test outcome of the inertia trials.
+    struct Trials(Vec<(f64, Inertia, Option<bool>)>);
 
     impl Observer for Trials {
         fn iteration(&mut self, _: &IterationRecord) -> ControlFlow {
@@ -374,28 +476,34 @@ mod tests {
         }
         fn diagnostic(&mut self, event: &Diagnostic) {
             if let Diagnostic::InertiaTrial {
-                delta_w, inertia, ..
+                delta_w,
+                inertia,
+                curvature,
+                ..
             } = event
             {
-                self.0.push((*delta_w, *inertia));
+                self.0.push((*delta_w, *inertia, *curvature));
             }
         }
     }
 
-    #[test]
-    fn inertia_correction_reaches_the_wanted_inertia_by_ipopt_s_rule() {
+    /// The KKT system of [`Indefinite`] (exact Hessian, natural order).
+    fn indefinite_kkt<'l>(ldlt: &'l mut FaerLdlt) -> KktSystem<'l> {
         let nlp = Indefinite;
         let prob = ScaledNlp::new(&nlp, nlp.jacobian_structure(), nlp.hessian_structure());
-        let mut ldlt = FaerLdlt::new();
         let structure = KktStructure {
             fixed_x: vec![false; 2],
             nonlinear: vec![true; 2],
             jac_rows: vec![0, 0],
             jac_cols: vec![0, 1],
         };
-        let mut kkt =
-            KktSystem::new(Counted::new(&mut ldlt), structure, &prob, None, true).unwrap();
-        let st = Iterate {
+        KktSystem::new(Counted::new(ldlt), structure, &prob, None, true).unwrap()
+    }
+
+    /// An iterate of [`Indefinite`] without bounds, multipliers zero, with objective
+    /// gradient `grad` and constraint value `c`.
+    fn indefinite_iterate(grad: [f64; 2], c: f64) -> Iterate {
+        Iterate {
             n: 2,
             m: 1,
             big_n: 2,
@@ -411,18 +519,25 @@ mod tests {
             zl: vec![0.0; 2],
             zu: vec![0.0; 2],
             f: 0.0,
-            grad: vec![0.0; 2],
-            c: vec![0.0],
+            grad: grad.to_vec(),
+            c: vec![c],
             jv: vec![1.0, 1.0],
             hv: vec![-2.0, 1.0],
-        };
+        }
+    }
+
+    #[test]
+    fn inertia_correction_reaches_the_wanted_inertia_by_ipopt_s_rule() {
+        let mut ldlt = FaerLdlt::new();
+        let mut kkt = indefinite_kkt(&mut ldlt);
+        let st = indefinite_iterate([0.0, 0.0], 0.0);
         let mut trials = Trials(Vec::new());
         let mut emitter = Emitter::new(&mut trials, 3);
         kkt.set_barrier_terms(&st);
         let d = kkt.first_delta_w(true);
         assert_eq!(d, 0.0, "nothing regularised yet");
         let delta = kkt
-            .factor_with_inertia_correction(&st, 0.0, d, &mut emitter)
+            .factor_with_inertia_correction(&st, 0.0, d, None, &mut emitter)
             .unwrap()
             .expect("regularised");
         // 0, then δ̄⁰ = 1e-4 growing by κ̄⁺ = 100 until δ > 1/2: 1e-4, 1e-2, 1
@@ -434,7 +549,7 @@ mod tests {
         }
         assert_eq!(delta, tried[3]);
         // the rejected trials have one negative eigenvalue too many, the accepted one (2, 1)
-        for (_, inertia) in &trials.0[..3] {
+        for (_, inertia, _) in &trials.0[..3] {
             assert_eq!((inertia.positive, inertia.negative), (1, 2), "{inertia:?}");
         }
         let last = trials.0[3].1;
@@ -445,5 +560,48 @@ mod tests {
         assert_eq!(kkt.first_delta_w(false), 0.0);
         assert_eq!(kkt.next_delta_w(0.1), 0.1 * 8.0);
         assert_eq!(kkt.next_delta_w(0.0), delta / 3.0);
+    }
+
+    /// δ_w of the trials and whether each passed the curvature test (None: not tested).
+    fn curvature_trials(grad: [f64; 2], r: f64, x1_upper: f64) -> (f64, Vec<(f64, Option<bool>)>) {
+        let mut ldlt = FaerLdlt::new();
+        let mut kkt = indefinite_kkt(&mut ldlt);
+        let mut st = indefinite_iterate(grad, r);
+        if x1_upper.is_finite() {
+            (st.has_u[1], st.wu[1]) = (true, x1_upper);
+        }
+        let mut trials = Trials(Vec::new());
+        let mut emitter = Emitter::new(&mut trials, 3);
+        kkt.set_barrier_terms(&st);
+        let test = CurvatureTest { mu: 0.0, r: &[r] };
+        let delta = kkt
+            .factor_with_inertia_correction(&st, 0.0, 0.0, Some(test), &mut emitter)
+            .unwrap()
+            .expect("a usable factor");
+        (delta, trials.0.iter().map(|t| (t.0, t.2)).collect())
+    }
+
+    #[test]
+    fn a_wrong_inertia_is_kept_only_for_a_long_step_of_positive_curvature() {
+        // With δ_w = 0 the KKT matrix of min −x₀² + x₁²/2, x₀ + x₁ = 0 has one negative
+        // eigenvalue too many (the reduced Hessian along (1, −1) is −1/2).
+        // Gradient (0, −1), residual r = −1: the Newton step is dx = (0, 1) (dλ = 0), whose
+        // curvature dxᵀ H dx = 1 is positive, so the unregularised factor is kept.
+        let (delta, trials) = curvature_trials([0.0, -1.0], -1.0, f64::INFINITY);
+        assert_eq!(delta, 0.0);
+        assert_eq!(trials, vec![(0.0, Some(true))]);
+        // The same step towards an upper bound x₁ ≤ 0.1 could only be taken to 0.099 of
+        // its length: rejected as well, until δ_w = 1 gives the right inertia.
+        let (delta, trials) = curvature_trials([0.0, -1.0], -1.0, 0.1);
+        assert!((delta - 1.0).abs() < 1e-12, "δ_w = {delta}");
+        let tested: Vec<Option<bool>> = trials.iter().map(|t| t.1).collect();
+        assert_eq!(tested, vec![Some(false), Some(false), Some(false), None]);
+        // Gradient (1, 0), r = 0: the step lies along the null space (1, −1) of J, where the
+        // curvature (−2 + 1 + 2δ_w)t² is negative until δ_w > 1/2; IPOPT's sequence 0, 1e-4,
+        // 1e-2 is rejected by the test, and δ_w = 1 has the right inertia (not tested).
+        let (delta, trials) = curvature_trials([1.0, 0.0], 0.0, f64::INFINITY);
+        assert!((delta - 1.0).abs() < 1e-12, "δ_w = {delta}");
+        let tested: Vec<Option<bool>> = trials.iter().map(|t| t.1).collect();
+        assert_eq!(tested, vec![Some(false), Some(false), Some(false), None]);
     }
 }
