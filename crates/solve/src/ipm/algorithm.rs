@@ -21,9 +21,9 @@
 
 use std::time::Instant;
 
-use crate::ipm::direction::bound_multiplier_steps;
-use crate::ipm::inertia::{CurvatureTest, KktStructure, KktSystem};
-use crate::ipm::iterate::dual_fraction_to_boundary;
+use crate::ipm::direction::{bound_multiplier_steps, usable_step};
+use crate::ipm::inertia::{KktStructure, KktSystem, StepCheck};
+use crate::ipm::iterate::{dual_fraction_to_boundary, Iterate};
 use crate::ipm::lbfgs::Lbfgs;
 use crate::ipm::line_search::Trial;
 use crate::ipm::linsys::{Counted, KktSolver};
@@ -255,17 +255,21 @@ impl<'a> Ipm<'a> {
         let skip_zero = self.stats.exact_from.is_some()
             || (self.o.warm_start && self.opt.err0 > WARM_SKIP_ZERO_ERROR);
         let delta_w = self.kkt.first_delta_w(skip_zero);
-        let curvature = inertia_free.then(|| CurvatureTest {
-            mu: if self.barrier.adaptive {
-                0.0
-            } else {
-                self.barrier.mu
-            },
-            r: &self.opt.r,
-        });
+        let mu = if self.barrier.adaptive {
+            0.0
+        } else {
+            self.barrier.mu
+        };
+        let r = &self.opt.r;
+        let mut usable = |kkt: &mut KktSystem, st: &Iterate| usable_step(kkt, st, mu, r);
+        let check: Option<StepCheck> = if inertia_free {
+            Some(&mut usable)
+        } else {
+            None
+        };
         let (st, em) = (&self.st, &mut self.emitter);
         self.kkt
-            .factor_with_inertia_correction(st, b0, delta_w, curvature, em)
+            .factor_with_inertia_correction(st, b0, delta_w, check, em)
     }
 
     /// After the line search: the bound-multiplier steps and the dual step size, then, if

@@ -13,8 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use crate::ipm::direction::{newton_rhs, step_from_solution, NewtonRhs};
-use crate::ipm::iterate::{fraction_to_boundary, Iterate, NO_SLACK};
+use crate::ipm::iterate::{Iterate, NO_SLACK};
 use crate::ipm::kkt::KktPattern;
 use crate::ipm::linsys::{Counted, KktSolver};
 use crate::ipm::ordering::kkt_ordering;
@@ -45,21 +44,10 @@ const MAX_INERTIA_TRIALS: usize = 60;
 /// of 0 (see [`KktSystem::first_delta_w`]) while that is at least this large.
 const REG_SKIP_ZERO_MIN: f64 = 1e-8;
 
-/// Smallest curvature dxᵀ(W + Σ + δ_w I)dx per squared length ‖dx‖² of the primal step for
-/// a factor of the wrong inertia to be used (scaled problem; Chiang & Zavala's α_n).
-const CURVATURE_MIN: f64 = 1e-8;
-/// Smallest fraction-to-boundary step size (τ = 0.99) of a step kept with a wrong inertia.
-const STEP_MIN: f64 = 0.5;
-
-/// The step the inertia-free curvature test solves for: the Newton step of barrier
-/// parameter μ and constraint residual r (the iteration's own step in fixed-μ mode, the
-/// affine-scaling step in free mode).
-pub(super) struct CurvatureTest<'r> {
-    /// Barrier parameter μ of the tested step.
-    pub mu: f64,
-    /// Constraint residual r of the tested step.
-    pub r: &'r [f64],
-}
+/// The check of a factor with the wrong inertia (its Newton step usable or not, see
+/// `direction::usable_step`); a kept factor leaves that step, unrefined, in `rhs`.
+pub(super) type StepCheck<'c, 'l> =
+    &'c mut dyn FnMut(&mut KktSystem<'l>, &Iterate) -> Result<bool, SolveError>;
 
 /// Which variables are fixed or appear nonlinearly, and the Jacobian's triplet indices.
 pub(super) struct KktStructure {
@@ -113,14 +101,15 @@ pub(super) struct KktSystem<'l> {
     pub factor_time: Duration,
     /// Numeric factorisations (restoration and initialisation included).
     pub factorizations: usize,
-    /// Slack residuals of the curvature test's right-hand side.
-    r_s: Vec<f64>,
-    /// When the factor was kept for the curvature test: μ of the Newton step it solved,
-    /// which `rhs` still holds (unrefined), so that the step need not be solved again.
-    pub tested_step: Option<f64>,
-    /// Primal step (with slacks) and multiplier step of the curvature test.
-    dw_test: Vec<f64>,
-    dlam_test: Vec<f64>,
+    /// Slack residuals of the step check's right-hand side.
+    pub r_s: Vec<f64>,
+    /// Whether the factor was kept by the step check, whose Newton step `rhs` then still
+    /// holds (unrefined), so that the step need not be solved again.
+    pub step_solved: bool,
+    /// Primal step (with slacks) of the step check.
+    pub dw_check: Vec<f64>,
+    /// Multiplier step of the step check.
+    pub dlam_check: Vec<f64>,
 }
 
 impl<'l> KktSystem<'l> {
@@ -165,9 +154,9 @@ impl<'l> KktSystem<'l> {
             factor_time: Duration::ZERO,
             factorizations: 0,
             r_s: Vec::new(),
-            tested_step: None,
-            dw_test: Vec::new(),
-            dlam_test: Vec::new(),
+            step_solved: false,
+            dw_check: Vec::new(),
+            dlam_check: Vec::new(),
         };
         kkt.analyse(&prob.hess)?;
         kkt.time_symbolic = t.elapsed();
@@ -257,14 +246,14 @@ impl<'l> KktSystem<'l> {
 
     /// Assembles and factorises K with Hessian values `hv` (L-BFGS initial scaling `b0` on
     /// the nonlinear variables), increasing δ_w from `delta_w` until the inertia is (n, m,
-    /// 0), or, with `curvature`, until that inertia or a Newton step of positive curvature.
-    /// Returns the δ_w used, or None when no δ_w ≤ 1e40 gives either.
+    /// 0), or, with `check`, until that inertia or a factor whose Newton step the check
+    /// accepts. Returns the δ_w used, or None when no δ_w ≤ 1e40 gives either.
     pub fn factor_with_inertia_correction(
         &mut self,
         st: &Iterate,
         b0: f64,
         mut delta_w: f64,
-        curvature: Option<CurvatureTest>,
+        mut check: Option<StepCheck<'_, 'l>>,
         emitter: &mut Emitter,
     ) -> Result<Option<f64>, SolveError> {
         let (n, m) = (st.n, st.m);
@@ -275,13 +264,11 @@ impl<'l> KktSystem<'l> {
         };
         let t_lin = Instant::now();
         let mut ok = false;
-        self.tested_step = None;
+        self.step_solved = false;
         for _ in 0..MAX_INERTIA_TRIALS {
             let inertia = self.factor_regularised(st, b0, delta_w)?;
-            let tested = match &curvature {
-                Some(test) if inertia != want && inertia.zero == 0 => {
-                    Some(self.usable_step(st, test)?)
-                }
+            let tested = match check.as_mut() {
+                Some(check) if inertia != want && inertia.zero == 0 => Some(check(self, st)?),
                 _ => None,
             };
             if emitter.wants(3) {
@@ -294,9 +281,7 @@ impl<'l> KktSystem<'l> {
                 });
             }
             if inertia == want || tested == Some(true) {
-                if tested == Some(true) {
-                    self.tested_step = curvature.as_ref().map(|t| t.mu);
-                }
+                self.step_solved = tested == Some(true);
                 ok = true;
                 break;
             }
@@ -316,51 +301,9 @@ impl<'l> KktSystem<'l> {
         Ok(Some(delta_w))
     }
 
-    /// Whether the Newton step for the test's μ, solved with the current factor, is usable
-    /// although the factor's inertia is not (n, m, 0): its primal part dx has curvature
-    /// dxᵀ(W + Σ + δ_w I)dx ≥ κ‖dx‖² (the inertia-free test of Chiang & Zavala 2016), and
-    /// the fraction-to-boundary rule lets at least [`STEP_MIN`] of it be taken (a factor with
-    /// a nearly singular direction gives a step that runs into the bounds at once).
-    fn usable_step(&mut self, st: &Iterate, test: &CurvatureTest) -> Result<bool, SolveError> {
-        let sys = NewtonRhs {
-            st,
-            mu: test.mu,
-            targets: None,
-            r: test.r,
-        };
-        self.r_s.resize(st.row_of_slack.len(), 0.0);
-        newton_rhs(
-            &sys,
-            &self.structure,
-            &self.sigma,
-            &mut self.rhs,
-            &mut self.r_s,
-        );
-        self.linear
-            .solve(&mut self.rhs)
-            .map_err(|e| SolveError::Backend(e.to_string()))?;
-        let (curv, norm2) = self.curvature(&self.rhs[..st.n]);
-        if !(curv.is_finite() && curv >= CURVATURE_MIN * norm2) {
-            return Ok(false);
-        }
-        // and it must not run into the bounds at once (a near-singular direction)
-        self.dw_test.resize(st.big_n, 0.0);
-        self.dlam_test.resize(st.m, 0.0);
-        let parts = (&self.structure, &self.sigma[..]);
-        step_from_solution(
-            st,
-            &self.rhs,
-            &self.r_s,
-            parts,
-            &mut self.dw_test,
-            &mut self.dlam_test,
-        );
-        Ok(fraction_to_boundary(st, &st.w, &self.dw_test, 0.99) >= STEP_MIN)
-    }
-
     /// The curvature dxᵀ(W + Σ + δ_w I)dx of the primal step `dx` from the assembled (1,1)
     /// block, and ‖dx‖², both over the variables that are not fixed.
-    fn curvature(&self, dx: &[f64]) -> (f64, f64) {
+    pub fn curvature(&self, dx: &[f64]) -> (f64, f64) {
         let (p, fixed) = (&self.pattern, &self.structure.fixed_x);
         let (mut curv, mut norm2) = (0.0, 0.0);
         for j in (0..dx.len()).filter(|&j| !fixed[j]) {
@@ -409,6 +352,7 @@ impl<'l> KktSystem<'l> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ipm::direction::usable_step;
     use crate::ipm::linsys::FaerLdlt;
     use crate::nlp::{EvalError, Nlp};
     use crate::observer::Observer;
@@ -573,9 +517,9 @@ mod tests {
         let mut trials = Trials(Vec::new());
         let mut emitter = Emitter::new(&mut trials, 3);
         kkt.set_barrier_terms(&st);
-        let test = CurvatureTest { mu: 0.0, r: &[r] };
+        let mut check = |kkt: &mut KktSystem, st: &Iterate| usable_step(kkt, st, 0.0, &[r]);
         let delta = kkt
-            .factor_with_inertia_correction(&st, 0.0, 0.0, Some(test), &mut emitter)
+            .factor_with_inertia_correction(&st, 0.0, 0.0, Some(&mut check), &mut emitter)
             .unwrap()
             .expect("a usable factor");
         (delta, trials.0.iter().map(|t| (t.0, t.2)).collect())
