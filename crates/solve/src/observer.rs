@@ -186,7 +186,8 @@ pub enum Diagnostic {
     },
     /// One factorisation of the inertia correction (level 3): Hessian regularisation δ_w,
     /// the inertia found and the one wanted (n positive, m negative), and for a wrong
-    /// inertia in a solve that tests the step's curvature, whether the step passed.
+    /// inertia in a solve that checks the step (warm-started exact solves), whether the
+    /// factor was kept for it.
     InertiaTrial {
         /// δ_w of the trial.
         delta_w: f64,
@@ -196,8 +197,9 @@ pub enum Diagnostic {
         positive: usize,
         /// Wanted negative eigenvalues (constraints).
         negative: usize,
-        /// Whether the Newton step had positive curvature (None: not tested).
-        curvature: Option<bool>,
+        /// Whether the Newton step was usable: positive curvature and at least half of it
+        /// takeable within the bounds (None: not checked).
+        step_check: Option<bool>,
     },
     /// One iterative-refinement residual of the KKT solve of right-hand side `column`
     /// (level 3).
@@ -335,15 +337,15 @@ impl fmt::Display for Diagnostic {
                 inertia,
                 positive,
                 negative,
-                curvature,
+                step_check,
             } => {
                 write!(
                     f,
                     "    delta_w {delta_w:.2e}: inertia {inertia:?} (want {positive}, {negative})"
                 )?;
-                match curvature {
-                    Some(true) => write!(f, ", step of positive curvature: kept"),
-                    Some(false) => write!(f, ", step of negative curvature"),
+                match step_check {
+                    Some(true) => write!(f, ", step usable: kept"),
+                    Some(false) => write!(f, ", step not usable"),
                     None => Ok(()),
                 }
             }

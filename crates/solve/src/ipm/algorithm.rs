@@ -260,8 +260,8 @@ impl<'a> Ipm<'a> {
         } else {
             self.barrier.mu
         };
-        let r = &self.opt.r;
-        let mut usable = |kkt: &mut KktSystem, st: &Iterate| usable_step(kkt, st, mu, r);
+        let (r, newton) = (&self.opt.r, &mut self.newton);
+        let mut usable = |kkt: &mut KktSystem, st: &Iterate| usable_step(kkt, st, mu, r, newton);
         let check: Option<StepCheck> = if inertia_free {
             Some(&mut usable)
         } else {

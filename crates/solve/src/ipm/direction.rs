@@ -237,12 +237,14 @@ const STEP_MIN: f64 = 0.5;
 /// primal part dx has curvature dxᵀ(W + Σ + δ_w I)dx ≥ κ‖dx‖² (the inertia-free test of
 /// Chiang & Zavala 2016), and the fraction-to-boundary rule lets at least [`STEP_MIN`] of it
 /// be taken (a factor with a nearly singular direction gives a step that runs into the
-/// bounds at once). The step is left, unrefined, in `kkt.rhs`.
+/// bounds at once). The step is left, unrefined, in `kkt.rhs`; `newton.main` and
+/// `newton.r_s` serve as scratch (the iteration's direction is computed after).
 pub(super) fn usable_step(
     kkt: &mut KktSystem,
     st: &Iterate,
     mu: f64,
     r: &[f64],
+    newton: &mut Newton,
 ) -> Result<bool, SolveError> {
     let sys = NewtonRhs {
         st,
@@ -250,19 +252,16 @@ pub(super) fn usable_step(
         targets: None,
         r,
     };
-    kkt.r_s.resize(st.row_of_slack.len(), 0.0);
-    newton_rhs(&sys, &kkt.structure, &kkt.sigma, &mut kkt.rhs, &mut kkt.r_s);
+    let Newton { main, r_s, .. } = newton;
+    newton_rhs(&sys, &kkt.structure, &kkt.sigma, &mut kkt.rhs, r_s);
     kkt.linear.solve(&mut kkt.rhs).map_err(backend)?;
     let (curv, norm2) = kkt.curvature(&kkt.rhs[..st.n]);
     if !(curv.is_finite() && curv >= CURVATURE_MIN * norm2) {
         return Ok(false);
     }
-    kkt.dw_check.resize(st.big_n, 0.0);
-    kkt.dlam_check.resize(st.m, 0.0);
     let parts = (&kkt.structure, &kkt.sigma[..]);
-    let (dw, dlam) = (&mut kkt.dw_check, &mut kkt.dlam_check);
-    step_from_solution(st, &kkt.rhs, &kkt.r_s, parts, dw, dlam);
-    Ok(fraction_to_boundary(st, &st.w, dw, 0.99) >= STEP_MIN)
+    step_from_solution(st, &kkt.rhs, r_s, parts, &mut main.dw, &mut main.dlam);
+    Ok(fraction_to_boundary(st, &st.w, &main.dw, 0.99) >= STEP_MIN)
 }
 
 /// Solves for the step of right-hand side `sys` with the iteration's factorisation: with
@@ -390,8 +389,8 @@ impl Ipm<'_> {
         }
         let t_early = Instant::now();
         let lb = lbfgs.as_ref().map(|q| &q.lbfgs).filter(|lb| !lb.is_empty());
-        // in fixed mode the step check may have solved the one step already
-        let solved = k0 == 1 && !self.barrier.adaptive && std::mem::take(&mut kkt.step_solved);
+        // the step check solves the fixed-mode step (the one step of k0 = 1) for μ itself
+        let solved = k0 == 1 && std::mem::take(&mut kkt.step_solved);
         let early_ok = match lb {
             Some(lb) => correct_block(kkt, newton, lb, st.n, k0),
             None => {

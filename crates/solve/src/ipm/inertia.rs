@@ -101,15 +101,9 @@ pub(super) struct KktSystem<'l> {
     pub factor_time: Duration,
     /// Numeric factorisations (restoration and initialisation included).
     pub factorizations: usize,
-    /// Slack residuals of the step check's right-hand side.
-    pub r_s: Vec<f64>,
     /// Whether the factor was kept by the step check, whose Newton step `rhs` then still
     /// holds (unrefined), so that the step need not be solved again.
     pub step_solved: bool,
-    /// Primal step (with slacks) of the step check.
-    pub dw_check: Vec<f64>,
-    /// Multiplier step of the step check.
-    pub dlam_check: Vec<f64>,
 }
 
 impl<'l> KktSystem<'l> {
@@ -153,10 +147,7 @@ impl<'l> KktSystem<'l> {
             time_symbolic: Duration::ZERO,
             factor_time: Duration::ZERO,
             factorizations: 0,
-            r_s: Vec::new(),
             step_solved: false,
-            dw_check: Vec::new(),
-            dlam_check: Vec::new(),
         };
         kkt.analyse(&prob.hess)?;
         kkt.time_symbolic = t.elapsed();
@@ -277,7 +268,7 @@ impl<'l> KktSystem<'l> {
                     inertia,
                     positive: n,
                     negative: m,
-                    curvature: tested,
+                    step_check: tested,
                 });
             }
             if inertia == want || tested == Some(true) {
@@ -354,6 +345,7 @@ mod tests {
     use super::*;
     use crate::ipm::direction::usable_step;
     use crate::ipm::linsys::FaerLdlt;
+    use crate::ipm::workspace::Newton;
     use crate::nlp::{EvalError, Nlp};
     use crate::observer::Observer;
     use crate::solver::{ControlFlow, IterationRecord};
@@ -411,7 +403,7 @@ mod tests {
         }
     }
 
-    /// Collects the δ_w, inertia and curvature-test outcome of the inertia trials.
+    /// Collects the δ_w, inertia and step-check outcome of the inertia trials.
     struct Trials(Vec<(f64, Inertia, Option<bool>)>);
 
     impl Observer for Trials {
@@ -422,11 +414,11 @@ mod tests {
             if let Diagnostic::InertiaTrial {
                 delta_w,
                 inertia,
-                curvature,
+                step_check,
                 ..
             } = event
             {
-                self.0.push((*delta_w, *inertia, *curvature));
+                self.0.push((*delta_w, *inertia, *step_check));
             }
         }
     }
@@ -506,7 +498,7 @@ mod tests {
         assert_eq!(kkt.next_delta_w(0.0), delta / 3.0);
     }
 
-    /// δ_w of the trials and whether each passed the curvature test (None: not tested).
+    /// δ_w of the trials and whether each passed the step check (None: not checked).
     fn curvature_trials(grad: [f64; 2], r: f64, x1_upper: f64) -> (f64, Vec<(f64, Option<bool>)>) {
         let mut ldlt = FaerLdlt::new();
         let mut kkt = indefinite_kkt(&mut ldlt);
@@ -517,7 +509,9 @@ mod tests {
         let mut trials = Trials(Vec::new());
         let mut emitter = Emitter::new(&mut trials, 3);
         kkt.set_barrier_terms(&st);
-        let mut check = |kkt: &mut KktSystem, st: &Iterate| usable_step(kkt, st, 0.0, &[r]);
+        let mut newton = Newton::new(2, 1, 0);
+        let mut check =
+            |kkt: &mut KktSystem, st: &Iterate| usable_step(kkt, st, 0.0, &[r], &mut newton);
         let delta = kkt
             .factor_with_inertia_correction(&st, 0.0, 0.0, Some(&mut check), &mut emitter)
             .unwrap()

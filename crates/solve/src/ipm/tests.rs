@@ -557,21 +557,21 @@ fn warm_start_from_a_neighbouring_optimum_takes_fewer_iterations_to_the_same_opt
 }
 
 /// Counts the inertia trials of a solve and those whose factor, of the wrong inertia, was
-/// kept because its Newton step had positive curvature.
+/// kept because its Newton step was usable.
 #[derive(Default)]
-struct CurvatureKept {
+struct WrongInertiaKept {
     trials: usize,
     kept: usize,
 }
 
-impl Observer for CurvatureKept {
+impl Observer for WrongInertiaKept {
     fn iteration(&mut self, _: &IterationRecord) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
     fn diagnostic(&mut self, event: &Diagnostic) {
-        if let Diagnostic::InertiaTrial { curvature, .. } = event {
+        if let Diagnostic::InertiaTrial { step_check, .. } = event {
             self.trials += 1;
-            self.kept += usize::from(*curvature == Some(true));
+            self.kept += usize::from(*step_check == Some(true));
         }
     }
 }
@@ -592,7 +592,7 @@ fn a_warm_started_exact_solve_keeps_a_wrong_inertia_for_a_usable_step() {
         nlp: &RosenbrockDisk,
         x0: vec![-0.5, 0.8],
     };
-    let mut seen = CurvatureKept::default();
+    let mut seen = WrongInertiaKept::default();
     let r = InteriorPoint::new()
         .solve(&start, &warm(&opts), &mut seen)
         .expect("solve returned an error");
@@ -612,7 +612,7 @@ fn a_warm_started_exact_solve_keeps_a_wrong_inertia_for_a_usable_step() {
             .collect::<Vec<_>>()
     );
     // a cold exact solve does not test the curvature
-    let mut cold = CurvatureKept::default();
+    let mut cold = WrongInertiaKept::default();
     let r = InteriorPoint::new()
         .solve(&start, &opts, &mut cold)
         .expect("solve returned an error");
