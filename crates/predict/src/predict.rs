@@ -159,13 +159,21 @@ pub const WARM_START_BOUND_PUSH: f64 = 1e-6;
 /// (decision 0005).
 pub const WARM_START_COMPL_FACTOR: f64 = 0.1;
 
+/// Exponent θ_μ of a warm-started exact-Hessian solve's monotone μ decrease: 1, linear
+/// (×0.2 per solved barrier problem). IPOPT's superlinear 1.5 takes μ from ~1e-5 straight
+/// to its floor, a decade and more below the μ at which the complementarity test above
+/// already holds, and the iterations at the floor are short steps cut by the
+/// fraction-to-boundary rule (decision 0005).
+pub const WARM_START_MU_POWER: f64 = 1.0;
+
 /// Solver options of a solve that starts from an optimum: the interior point starts on the
 /// central path of a small μ with the variables barely pushed from their bounds instead of
 /// re-centring far from it, and a hybrid Hessian becomes the exact Hessian from the first
 /// iteration (the quasi-Newton phase exists to get far from the optimum; near it, it only
 /// delays the Newton steps; decision 0005 gives the measurements). An
 /// exact-Hessian warm start ends at a tenth of the requested complementarity tolerance
-/// ([`WARM_START_COMPL_FACTOR`]); a hybrid turned exact drops its centrality correctors.
+/// ([`WARM_START_COMPL_FACTOR`]) and decreases μ linearly ([`WARM_START_MU_POWER`]); a
+/// hybrid turned exact drops its centrality correctors.
 /// Backends that cannot warm start get `options` unchanged
 /// (they still start from the optimum, cold).
 pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> SolverOptions {
@@ -196,6 +204,11 @@ pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> Solve
             options.compl_inf_tol * WARM_START_COMPL_FACTOR
         } else {
             options.compl_inf_tol
+        },
+        mu_superlinear_power: if exact {
+            WARM_START_MU_POWER
+        } else {
+            options.mu_superlinear_power
         },
         ..options.clone()
     }
@@ -598,7 +611,7 @@ pub fn select(solved: &[Solved]) -> Option<usize> {
 mod tests {
     use super::{
         presolve_for, warm_start_options, Presolve, PRESOLVE_MESH, WARM_START_BOUND_PUSH,
-        WARM_START_MU,
+        WARM_START_MU, WARM_START_MU_POWER,
     };
     use stride_ocp::settings::{CycleKind, ProblemSettings};
     use stride_solve::ipm::InteriorPoint;
@@ -680,6 +693,7 @@ mod tests {
             w.compl_inf_tol
         );
         assert_eq!(w.tol, 1e-4);
+        assert_eq!(w.mu_superlinear_power, WARM_START_MU_POWER);
         // an explicit limited-memory Hessian is kept, with its tolerance
         let plain = SolverOptions {
             hessian: lbfgs,
@@ -688,6 +702,7 @@ mod tests {
         let w = warm_start_options(&ipm, &plain);
         assert_eq!((w.hessian, w.compl_inf_tol), (lbfgs, 1e-4));
         assert_eq!(w.centrality_correctors, 2);
+        assert_eq!(w.mu_superlinear_power, 1.5);
         // an explicit exact Hessian: the tighter complementarity too
         let exact = SolverOptions {
             hessian: HessianMode::Exact,
@@ -696,5 +711,6 @@ mod tests {
         let w = warm_start_options(&ipm, &exact);
         assert_eq!(w.hessian, HessianMode::Exact);
         assert!(w.compl_inf_tol < 1.01e-5);
+        assert_eq!(w.mu_superlinear_power, WARM_START_MU_POWER);
     }
 }

@@ -139,6 +139,11 @@ pub struct SolverOptions {
     pub mu_strategy: MuStrategy,
     /// Initial barrier parameter (default 0.1).
     pub mu_init: f64,
+    /// Exponent θ_μ of the monotone decrease μ ← max(floor, min(κ_μ μ, μ^θ_μ)), κ_μ = 0.2,
+    /// in [1, 2] (default 1.5, IPOPT `mu_superlinear_decrease_power`); 1 makes the decrease
+    /// linear, so that μ does not jump far below the value at which the termination test
+    /// already holds (the IPOPT backend ignores it).
+    pub mu_superlinear_power: f64,
     /// Adaptive μ safeguard of the pure-Rust interior point: in free mode μ stays above
     /// min(average complementarity, factor × max(scaled primal, dual infeasibility)).
     /// None (default): 0.01 with the exact Hessian, 0 (off, IPOPT's default) with the
@@ -231,6 +236,7 @@ impl Default for SolverOptions {
             compl_inf_tol: 1e-4,
             mu_strategy: MuStrategy::Monotone,
             mu_init: 0.1,
+            mu_superlinear_power: 1.5,
             mu_safeguard: None,
             mu_globalisation: None,
             mu_oracle: MuOracle::Probing,

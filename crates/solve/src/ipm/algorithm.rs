@@ -376,6 +376,9 @@ fn check_options(o: &SolverOptions) -> Result<(), SolveError> {
     if o.mu_init.is_nan() || o.mu_init <= 0.0 {
         return bad("mu_init", "must be positive");
     }
+    if !(1.0..=2.0).contains(&o.mu_superlinear_power) {
+        return bad("mu_superlinear_power", "must be in [1, 2]");
+    }
     if o.mu_safeguard.is_some_and(|f| f.is_nan() || f < 0.0) {
         return bad("mu_safeguard", "must be non-negative");
     }

@@ -16,8 +16,6 @@ use crate::solver::{MuGlobalisation, MuStrategy, SolverOptions};
 pub(super) const KAPPA_EPS: f64 = 10.0;
 /// Linear μ decrease factor κ_μ.
 const KAPPA_MU: f64 = 0.2;
-/// Superlinear μ decrease exponent θ_μ.
-const THETA_MU: f64 = 1.5;
 /// Adaptive μ: reference KKT errors kept in free mode, and the reduction required.
 const FREE_MODE_REFS: usize = 4;
 const FREE_MODE_RED: f64 = 0.9999;
@@ -28,9 +26,10 @@ const MU_FILTER_MARGIN: f64 = 1e-5;
 /// Largest barrier parameter of the adaptive strategy.
 pub(super) const MU_MAX: f64 = 1e5;
 
-/// Fiacco–McCormick decrease of μ: min(κ_μ μ, μ^θ_μ), not below `floor`.
-pub(super) fn monotone_decrease(mu: f64, floor: f64) -> f64 {
-    floor.max((KAPPA_MU * mu).min(mu.powf(THETA_MU)))
+/// Fiacco–McCormick decrease of μ: min(κ_μ μ, μ^θ_μ) with θ_μ = `power`, not below
+/// `floor`.
+pub(super) fn monotone_decrease(mu: f64, floor: f64, power: f64) -> f64 {
+    floor.max((KAPPA_MU * mu).min(mu.powf(power)))
 }
 
 /// μ on entering the fixed mode of the adaptive strategy: a fraction of the average
@@ -132,7 +131,7 @@ impl Ipm<'_> {
             self.barrier.adaptive = false;
             self.barrier.mu = fixed_mode_mu(&self.st, floor);
         } else if self.barrier_error(mu) <= KAPPA_EPS * mu || tiny_step {
-            self.barrier.mu = monotone_decrease(mu, floor);
+            self.barrier.mu = monotone_decrease(mu, floor, self.o.mu_superlinear_power);
         }
     }
 
@@ -182,7 +181,7 @@ impl Ipm<'_> {
                 self.barrier.adaptive = true;
                 break;
             }
-            self.barrier.mu = monotone_decrease(mu, floor);
+            self.barrier.mu = monotone_decrease(mu, floor, self.o.mu_superlinear_power);
         }
     }
 }
@@ -194,12 +193,16 @@ mod tests {
     #[test]
     fn monotone_decrease_is_linear_then_superlinear_and_stops_at_the_floor() {
         // κ_μ μ = 0.02 < μ^1.5 = 0.0316 at μ = 0.1
-        assert_eq!(monotone_decrease(0.1, 0.0), 0.2 * 0.1);
+        assert_eq!(monotone_decrease(0.1, 0.0, 1.5), 0.2 * 0.1);
         // μ^1.5 = 1e-6 < κ_μ μ = 2e-5 at μ = 1e-4
-        assert!((monotone_decrease(1e-4, 0.0) - 1e-6).abs() < 1e-20);
-        assert_eq!(monotone_decrease(1e-4, 1e-5), 1e-5);
+        assert!((monotone_decrease(1e-4, 0.0, 1.5) - 1e-6).abs() < 1e-20);
+        assert_eq!(monotone_decrease(1e-4, 1e-5, 1.5), 1e-5);
         // the crossover κ_μ μ = μ^1.5 lies at μ = κ_μ² = 0.04
         let mu = 0.04;
-        assert!((monotone_decrease(mu, 0.0) - 0.2 * mu).abs() < 1e-15);
+        assert!((monotone_decrease(mu, 0.0, 1.5) - 0.2 * mu).abs() < 1e-15);
+        // θ_μ = 1: linear at every μ below 1
+        assert!((monotone_decrease(1e-5, 0.0, 1.0) - 2e-6).abs() < 1e-20);
+        assert!((monotone_decrease(1e-5, 1e-7, 1.0) - 2e-6).abs() < 1e-20);
+        assert_eq!(monotone_decrease(2e-7, 1e-7, 1.0), 1e-7);
     }
 }

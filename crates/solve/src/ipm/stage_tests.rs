@@ -141,8 +141,16 @@ fn feasibility_restoration_reduces_the_violation_from_the_waechter_biegler_start
 
 #[test]
 fn the_monotone_barrier_update_decreases_mu_while_the_barrier_problem_is_solved() {
+    // IPOPT's superlinear decrease and the linear one of warm-started exact solves
+    for power in [1.5, 1.0] {
+        monotone_update_with_power(power);
+    }
+}
+
+fn monotone_update_with_power(power: f64) {
     let o = SolverOptions {
         mu_strategy: MuStrategy::Monotone,
+        mu_superlinear_power: power,
         ..SolverOptions::default()
     };
     let mut quiet = |_: &IterationRecord| ControlFlow::Continue(());
@@ -161,7 +169,7 @@ fn the_monotone_barrier_update_decreases_mu_while_the_barrier_problem_is_solved(
     assert!(mu < mu0);
     let mut expected = mu0;
     while ipm.barrier_error(expected) <= KAPPA_EPS * expected && expected > floor {
-        expected = monotone_decrease(expected, floor);
+        expected = monotone_decrease(expected, floor, o.mu_superlinear_power);
     }
     assert_eq!(mu, expected);
     assert!(ipm.barrier_error(mu) > KAPPA_EPS * mu || mu == floor);

@@ -769,14 +769,32 @@ fn bad_problems_give_clear_errors() {
 
 #[test]
 fn invalid_options_are_rejected() {
-    let o = SolverOptions {
+    let rejected = |o: SolverOptions| {
+        InteriorPoint::new()
+            .solve(&Hs071, &o, &mut |_: &IterationRecord| {
+                ControlFlow::Continue(())
+            })
+            .unwrap_err()
+    };
+    let e = rejected(SolverOptions {
         tol: -1.0,
         ..SolverOptions::default()
-    };
-    let e = InteriorPoint::new()
-        .solve(&Hs071, &o, &mut |_: &IterationRecord| {
-            ControlFlow::Continue(())
-        })
-        .unwrap_err();
+    });
     assert!(matches!(e, SolveError::InvalidOption { name: "tol", .. }));
+    for power in [0.5, 2.5, f64::NAN] {
+        let e = rejected(SolverOptions {
+            mu_superlinear_power: power,
+            ..SolverOptions::default()
+        });
+        assert!(
+            matches!(
+                e,
+                SolveError::InvalidOption {
+                    name: "mu_superlinear_power",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+    }
 }
