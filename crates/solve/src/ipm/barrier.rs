@@ -200,7 +200,7 @@ mod tests {
         // the crossover κ_μ μ = μ^1.5 lies at μ = κ_μ² = 0.04
         let mu = 0.04;
         assert!((monotone_decrease(mu, 0.0, 1.5) - 0.2 * mu).abs() < 1e-15);
-        // θ_μ = 1: linear at every μ below 1
+        // θ_μ = 1: min(κ_μ μ, μ) = κ_μ μ, linear at every μ
         assert!((monotone_decrease(1e-5, 0.0, 1.0) - 2e-6).abs() < 1e-20);
         assert!((monotone_decrease(1e-5, 1e-7, 1.0) - 2e-6).abs() < 1e-20);
         assert_eq!(monotone_decrease(2e-7, 1e-7, 1.0), 1e-7);
