@@ -186,7 +186,15 @@ pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> Solve
     } else {
         options.hessian
     };
-    let exact = matches!(hessian, HessianMode::Exact);
+    // Newton steps from an optimum: a tighter end and a linear μ decrease to it
+    let (compl_inf_tol, mu_superlinear_power) = if matches!(hessian, HessianMode::Exact) {
+        (
+            options.compl_inf_tol * WARM_START_COMPL_FACTOR,
+            WARM_START_MU_POWER,
+        )
+    } else {
+        (options.compl_inf_tol, options.mu_superlinear_power)
+    };
     SolverOptions {
         warm_start: true,
         mu_init: WARM_START_MU,
@@ -200,16 +208,8 @@ pub fn warm_start_options(solver: &dyn Solver, options: &SolverOptions) -> Solve
         } else {
             options.centrality_correctors
         },
-        compl_inf_tol: if exact {
-            options.compl_inf_tol * WARM_START_COMPL_FACTOR
-        } else {
-            options.compl_inf_tol
-        },
-        mu_superlinear_power: if exact {
-            WARM_START_MU_POWER
-        } else {
-            options.mu_superlinear_power
-        },
+        compl_inf_tol,
+        mu_superlinear_power,
         ..options.clone()
     }
 }

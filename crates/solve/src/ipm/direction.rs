@@ -458,8 +458,8 @@ fn correct_block(
 }
 
 /// The `k0` Newton right-hand sides solved in one block and refined together; with
-/// `solved`, the one right-hand side's solution is taken from `kkt.rhs` (the curvature
-/// test's solve of the same system). Whether it worked.
+/// `solved`, the one right-hand side's solution is taken from `kkt.rhs` (the step check's
+/// solve of the same system, see [`usable_step`]). Whether it worked.
 fn refined_block(
     kkt: &mut KktSystem,
     newton: &mut Newton,
