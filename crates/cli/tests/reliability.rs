@@ -186,13 +186,15 @@ fn unusable_outputs_fail_before_solving_and_stale_staging_is_cleaned() {
         "{}",
         text(&out.stderr)
     );
-    // the staging folder of a process that no longer runs is removed by the next run
+    // the work folder of a process that no longer runs is removed by the next run
     let mut child = Command::new("true").spawn().unwrap();
     let dead = child.id();
     child.wait().unwrap();
-    let stale = d.join(format!(".res.partial-{dead}"));
-    std::fs::create_dir(&stale).unwrap();
-    std::fs::write(stale.join("summary.json"), "{").unwrap();
+    let stale = d.join(".stride-work.res");
+    std::fs::create_dir_all(stale.join("partial")).unwrap();
+    std::fs::write(stale.join("partial/summary.json"), "{").unwrap();
+    let host = stride_files::process::this_host();
+    std::fs::write(stale.join("owner"), format!("{host} {dead} - 0\n")).unwrap();
     let out = stride_in(&d, &short_predict(Some(Path::new("res"))));
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
     assert!(!stale.exists());
