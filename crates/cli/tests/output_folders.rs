@@ -38,8 +38,13 @@ fn predict_in(cwd: &Path, max_iter: usize, extra: &[&str]) -> std::process::Outp
         args.extend(["--max-iter", &iters]);
     }
     args.extend(extra);
+    stride_in(cwd, &args)
+}
+
+/// Runs `stride` with `args` in the folder `cwd`.
+fn stride_in(cwd: &Path, args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_stride"))
-        .args(&args)
+        .args(args)
         .current_dir(cwd)
         .output()
         .expect("running stride")
@@ -116,29 +121,7 @@ fn a_folder_being_written_is_refused_or_the_default_moves_on() {
 #[test]
 fn two_runs_into_one_folder_at_once_never_both_write_it() {
     let d = scratch("race");
-    let spawn = || {
-        Command::new(env!("CARGO_BIN_EXE_stride"))
-            .args([
-                "predict",
-                "--model",
-                "gait1018",
-                "--mesh",
-                "10",
-                "--presolve-mesh",
-                "0",
-                "--max-iter",
-                "5",
-                "--guess",
-                "qr",
-                "--no-view",
-                "--quiet",
-                "--out",
-                "same",
-            ])
-            .current_dir(&d)
-            .output()
-            .expect("running stride")
-    };
+    let spawn = || predict_in(&d, 5, &["--out", "same"]);
     let (a, b) = std::thread::scope(|s| {
         let a = s.spawn(spawn);
         let b = s.spawn(spawn);
@@ -210,11 +193,7 @@ fn out_files_of_view_and_paths_are_not_replaced_unasked() {
     let view = |extra: &[&str]| {
         let mut a = vec!["view", "res", "--out", "page.html"];
         a.extend(extra);
-        Command::new(env!("CARGO_BIN_EXE_stride"))
-            .args(&a)
-            .current_dir(&d)
-            .output()
-            .unwrap()
+        stride_in(&d, &a)
     };
     common::rejects(
         &[
@@ -248,11 +227,7 @@ fn out_files_of_view_and_paths_are_not_replaced_unasked() {
             "../paths.csv",
         ];
         a.extend(extra);
-        Command::new(env!("CARGO_BIN_EXE_stride"))
-            .args(&a)
-            .current_dir(&res)
-            .output()
-            .unwrap()
+        stride_in(&res, &a)
     };
     let o = paths(&[]);
     assert_eq!(o.status.code(), Some(1));
