@@ -380,11 +380,12 @@ fn a_study_folder_has_one_writer_and_corrupt_records_are_errors() {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    // wait until the first run holds the lock (its process id in the lock file)
+    // wait until the first run holds the lock (its process id and host in the lock file)
     let lock = out.join(".lock");
     let pid = first.id().to_string();
     for _ in 0..600 {
-        if std::fs::read_to_string(&lock).is_ok_and(|t| t.trim() == pid) {
+        let text = std::fs::read_to_string(&lock).unwrap_or_default();
+        if text.split_whitespace().next() == Some(pid.as_str()) {
             break;
         }
         std::thread::sleep(Duration::from_millis(20));
@@ -393,7 +394,11 @@ fn a_study_folder_has_one_writer_and_corrupt_records_are_errors() {
     let status = first.wait().unwrap();
     let err = text(&second.stderr);
     assert_eq!(second.status.code(), Some(1), "{err}");
-    assert!(err.contains(&format!("process id {pid}")), "{err}");
+    let host = stride_files::process::this_host();
+    assert!(
+        err.contains(&format!("process id {pid} on {host}")),
+        "{err}"
+    );
     assert_eq!(
         status.code(),
         Some(2),

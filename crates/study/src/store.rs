@@ -320,7 +320,7 @@ impl Store {
 
     /// Claim case `name` for this process before running it: `Ok(Err(holder))` when a live
     /// process (here or on another host) has it. The claim holder removes what killed runs
-    /// of the case left (staging folders of any host).
+    /// of the case left (its work folder, whichever host made it).
     pub fn claim(&self, name: &str) -> Result<Result<Claim, Holder>, StoreError> {
         match Claim::try_take(&self.claim_path(name), &self.job) {
             Ok(c) => {
@@ -359,9 +359,9 @@ impl Store {
     }
 
     /// Write a case's folder whole ([`result_dir::write_staged`]): `run` gets a fresh
-    /// staging folder (in the work folder `cases/.stride-work.<name>`), writes the case's result files
-    /// into it once and returns the case's record, which is written last; the folder then
-    /// replaces the case's final folder.
+    /// staging folder (in the work folder `cases/.stride-work.<name>`), writes the case's
+    /// result files into it once and returns the case's record, which is written last; the
+    /// folder then replaces the case's final folder.
     pub fn write_case(
         &self,
         name: &str,
