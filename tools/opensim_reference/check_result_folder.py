@@ -28,6 +28,14 @@ Prints one JSON object on stdout and exits with status 1 when a check fails:
                        are extended by one cycle before and after it (forward position
                        shifted by the stride) so that the tool's splines have no end
                        effects, and the tool's torques are compared on the middle cycle.
+  id_setup_file        the same comparison for the folder's own id_setup.xml run as a setup
+                       file (`opensim-cmd run-tool id_setup.xml` when opensim-cmd is on the
+                       PATH, else an InverseDynamicsTool constructed from the file, which is
+                       what run-tool does), on a copy of the files so that the folder is not
+                       written to. Reported, not checked: the cycle is not extended, so the
+                       tool's splines have end effects at its first and last samples, and the
+                       heel strikes differ as above; the worst fraction over all samples and
+                       away from the heel strikes are given.
   center_of_pressure   per foot, the largest horizontal distance [m] of the centre of
                        pressure in grf.mot from the region under that foot (the
                        bounding rectangle of its contact spheres' centres in ground, grown
@@ -39,6 +47,8 @@ import csv
 import json
 import math
 import os
+import shutil
+import subprocess
 import sys
 import tempfile
 
@@ -237,7 +247,14 @@ def inverse_dynamics(folder, model_path, work):
     tool.setOutputGenForceFileName("id.sto")
     if not tool.run():
         raise RuntimeError("InverseDynamicsTool failed")
-    table = osim.TimeSeriesTable(os.path.join(work, "id.sto"))
+    return compare_with_joint_torques(folder, os.path.join(work, "id.sto"), grows, gl)
+
+
+def compare_with_joint_torques(folder, sto, grows, gl):
+    """Per checked coordinate, the largest difference between the torques of the storage
+    `sto` and joint_torques.csv (nearest time), as a fraction of that torque's range, also
+    away from the heel strikes (rows of grf.mot `grows` with labels `gl`)."""
+    table = osim.TimeSeriesTable(sto)
     times = list(table.getIndependentColumn())
     with open(os.path.join(folder, "joint_torques.csv")) as f:
         rows = list(csv.reader(f))
@@ -276,6 +293,24 @@ def inverse_dynamics(folder, model_path, work):
     return result
 
 
+def setup_file_inverse_dynamics(folder, work):
+    """Run the folder's own id_setup.xml as OpenSim runs a setup file (`opensim-cmd
+    run-tool`: an InverseDynamicsTool constructed from the file), on a copy of the files
+    it names so that the result folder is not written to, and compare its torques with
+    joint_torques.csv."""
+    for name in ["id_setup.xml", "model.osim", "motion.mot", "grf.mot", "grf.xml"]:
+        shutil.copy(os.path.join(folder, name), os.path.join(work, name))
+    setup = os.path.join(work, "id_setup.xml")
+    if shutil.which("opensim-cmd"):
+        subprocess.run(["opensim-cmd", "run-tool", setup], check=True, cwd=work,
+                       stdout=subprocess.DEVNULL)
+    elif not osim.InverseDynamicsTool(setup).run():
+        raise RuntimeError("InverseDynamicsTool failed on id_setup.xml")
+    _, gl, grows = read_storage(os.path.join(folder, "grf.mot"))
+    sto = os.path.join(work, "inverse_dynamics", "inverse_dynamics.sto")
+    return compare_with_joint_torques(folder, sto, grows, gl)
+
+
 def main(folder):
     osim.Logger.setLevelString("error")
     checks = {}
@@ -312,6 +347,17 @@ def main(folder):
     checks["inverse_dynamics_tool"] = idr
     checks["inverse_dynamics_tool_worst"] = float(
         max((v["fraction_of_range"] for v in idr.values()), default=math.inf))
+    with tempfile.TemporaryDirectory() as work:
+        cwd = os.getcwd()
+        os.chdir(work)
+        try:
+            ids = setup_file_inverse_dynamics(folder, work)
+        finally:
+            os.chdir(cwd)
+    checks["id_setup_file"] = ids
+    for key in ["fraction_of_range", "fraction_of_range_away_from_heel_strikes"]:
+        checks[f"id_setup_file_worst_{key}"] = float(
+            max((v[key] for v in ids.values()), default=math.inf))
     idr = solver_inverse_dynamics(folder, model_path)
     checks["inverse_dynamics"] = idr
     cop = center_of_pressure(folder, osim.Model(model_path))

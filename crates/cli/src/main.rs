@@ -11,6 +11,7 @@ mod fit_cmd;
 mod limits;
 mod model_cmd;
 mod model_load;
+mod out_file;
 mod paths_cmd;
 mod predict_cmd;
 mod progress;

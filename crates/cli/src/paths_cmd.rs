@@ -20,6 +20,9 @@ pub struct PathsArgs {
     /// Output CSV (default: standard output).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace the output CSV when it exists.
+    #[arg(long)]
+    pub force: bool,
     /// Evaluate this fitted geometry (from `stride model fit --out`) instead of the paths.
     #[arg(long)]
     pub geometry: Option<PathBuf>,
@@ -87,6 +90,7 @@ pub fn run(args: PathsArgs) -> anyhow::Result<()> {
     }
     match &args.out {
         Some(out) => {
+            crate::out_file::check_new_file(out, args.force)?;
             stride_files::write_atomic(out, csv.as_bytes())
                 .with_context(|| format!("writing {}", out.display()))?;
             eprintln!(

@@ -5,6 +5,7 @@ use clap::Args;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
+use stride_files::reserve::Reservation;
 use stride_files::result_dir::{self, Existing, OutputError, ResultKind};
 use stride_ocp::guess::GuessKind;
 use stride_ocp::model_defaults::ModelProblemDefaults;
@@ -313,40 +314,71 @@ pub(crate) fn parse_guesses(list: &[String]) -> anyhow::Result<Vec<GuessKind>> {
     Ok(guesses)
 }
 
-/// The output folder of a prediction, checked before anything is solved: a new or empty
-/// folder, or a previous prediction result replaced with `force`. When the default folder
-/// holds a result (and no `force`), the next free numbered name is used and said on stderr;
-/// a given folder holding a result is an error. Stale staging folders beside it are removed.
-/// `quiet`: the note is not printed (the folder is named on stdout at the end).
+/// The output folder of a prediction, checked and reserved before anything is solved: a
+/// new or empty folder, or a previous prediction result replaced with `force` (only the
+/// files stride wrote are replaced; the others are named on stderr and kept). When the
+/// default folder holds a result or is being written by another process (and no `force`),
+/// the next free numbered name is used and said on stderr; a given folder holding a result
+/// is an error, and so is one another process is writing. The reservation is held until
+/// the result is written. `quiet`: the note on the default folder is not printed (the
+/// folder is named on stdout at the end).
 pub(crate) fn output_folder(
     given: Option<PathBuf>,
     default: PathBuf,
     force: bool,
     quiet: bool,
-) -> anyhow::Result<PathBuf> {
+) -> anyhow::Result<Reservation> {
     let (out, is_default) = match given {
         Some(p) => (p, false),
         None => (default, true),
     };
-    let out = match result_dir::inspect(&out, ResultKind::Prediction)? {
-        Existing::Free => out,
-        Existing::Own(_) if force => out,
-        Existing::Own(_) if is_default => {
-            let next = result_dir::next_free(&out, ResultKind::Prediction);
+    let existing = result_dir::inspect(&out, ResultKind::Prediction)?;
+    result_dir::check_writable(&out)?;
+    let reserved = match existing {
+        Existing::Own(_) if !force && !is_default => {
+            return Err(OutputError::Occupied(out.display().to_string()).into())
+        }
+        Existing::Own(_) if !force => None,
+        _ if is_default && !force => Reservation::take(&out).ok(),
+        _ => Some(Reservation::take(&out).map_err(OutputError::from)?),
+    };
+    let reserved = match reserved {
+        Some(r) => r,
+        None => {
+            let next = result_dir::reserve_next_free(&out, ResultKind::Prediction)?;
             if !quiet {
                 eprintln!(
-                    "note: {} holds a previous result (--force replaces it); writing to {}",
+                    "note: {} holds a previous result or is being written (--force replaces a result); writing to {}",
                     out.display(),
-                    next.display()
+                    next.out().display()
                 );
             }
             next
         }
-        Existing::Own(_) => return Err(OutputError::Occupied(out.display().to_string()).into()),
     };
-    result_dir::check_writable(&out)?;
-    result_dir::clean_stale(&result_dir::parent_of(&out));
-    Ok(out)
+    // the folder may have changed while it was not reserved
+    if let Existing::Own(_) = result_dir::inspect(reserved.out(), ResultKind::Prediction)? {
+        keep_foreign_note(reserved.out(), force)?;
+    }
+    Ok(reserved)
+}
+
+/// Before a previous result at `out` is replaced (`force`, else an error): refuse a result
+/// whose marker does not say which files are stride's, and name the files that are kept.
+fn keep_foreign_note(out: &Path, force: bool) -> anyhow::Result<()> {
+    if !force {
+        return Err(OutputError::Occupied(out.display().to_string()).into());
+    }
+    let foreign = result_dir::foreign_entries(out)
+        .ok_or_else(|| OutputError::Unlisted(out.display().to_string()))?;
+    if !foreign.is_empty() {
+        eprintln!(
+            "note: --force replaces only the files stride wrote in {}; kept: {}",
+            out.display(),
+            foreign.join(", ")
+        );
+    }
+    Ok(())
 }
 
 /// Run `stride predict`.
@@ -403,12 +435,13 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         "the guesses solved at once",
     )?;
     let default_out = PathBuf::from(format!("out/predict_{:.2}", settings.speed));
-    let out = output_folder(
+    let reserved = output_folder(
         args.out.or(study.output),
         default_out,
         args.force,
         args.quiet,
     )?;
+    let out = reserved.out().to_path_buf();
     let quiet = args.quiet;
     let board = crate::progress::ProgressBoard::new(&guesses, options.tol / 10.0);
     let progress = |src: predict::ProgressSource, r: &stride_solve::solver::IterationRecord| {
@@ -479,6 +512,7 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
         ),
         _ => {
             println!("no guess converged; solver logs and summary in {}", out.display());
+            drop(reserved);
             std::process::exit(2);
         }
     }

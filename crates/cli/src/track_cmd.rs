@@ -229,12 +229,13 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
             .map(PathBuf::as_path),
         args.quiet,
     )?;
-    let out = crate::predict_cmd::output_folder(
+    let reserved = crate::predict_cmd::output_folder(
         args.out.clone().or(file.output.clone()),
         PathBuf::from("out/track"),
         args.force,
         args.quiet,
     )?;
+    let out = reserved.out().to_path_buf();
     let tp = TrackingProblem::new(&model, &settings)?;
     let presolve = track_presolve_for(
         args.presolve_mesh.or(file.solver.presolve_mesh),
@@ -269,6 +270,7 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
     print_outcome(&solved, &errors, &out);
     println!("results in {}", out.display());
     if !r.status.is_usable_start() {
+        drop(reserved);
         std::process::exit(2);
     }
     Ok(())

@@ -19,9 +19,12 @@ pub struct ViewArgs {
     /// has one, else the study file's model, else the built-in model).
     #[arg(long)]
     pub model: Option<PathBuf>,
-    /// Page to write (default: `<folder>/view.html`).
+    /// Page to write (default: `<folder>/view.html`, replaced when it exists).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace the page named by `--out` when it exists.
+    #[arg(long)]
+    pub force: bool,
     /// Frames per gait cycle (default 100 for a result folder, 50 per case of a study).
     #[arg(long)]
     pub frames: Option<usize>,
@@ -29,6 +32,9 @@ pub struct ViewArgs {
 
 /// Run `stride view`: write the page and print its path.
 pub fn run(args: ViewArgs) -> anyhow::Result<()> {
+    if let Some(out) = &args.out {
+        crate::out_file::check_new_file(out, args.force)?;
+    }
     let model = view_model(&args.folder, args.model.as_deref())?;
     let options = ViewOptions {
         frames: args.frames,
@@ -48,7 +54,8 @@ pub fn write_default(folder: &Path, model: &Model) -> anyhow::Result<()> {
 }
 
 /// Write the page of `folder` (a study folder when it has `study.toml` and `cases/`, else a
-/// result folder) to `out` (default `<folder>/view.html`) atomically; returns its path.
+/// result folder) to `out` (default `<folder>/view.html`, then listed in the folder's
+/// marker as stride's file) atomically; returns its path.
 fn write_page(
     folder: &Path,
     model: &Model,
@@ -63,6 +70,10 @@ fn write_page(
     let path = out.map_or_else(|| folder.join(VIEW_FILE), Path::to_path_buf);
     stride_files::write_atomic(&path, html.as_bytes())
         .with_context(|| format!("writing {}", path.display()))?;
+    if out.is_none() {
+        stride_files::result_dir::record_file(folder, VIEW_FILE)
+            .with_context(|| format!("recording {VIEW_FILE} in {}", folder.display()))?;
+    }
     Ok(path)
 }
 

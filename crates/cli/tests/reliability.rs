@@ -186,13 +186,15 @@ fn unusable_outputs_fail_before_solving_and_stale_staging_is_cleaned() {
         "{}",
         text(&out.stderr)
     );
-    // the staging folder of a process that no longer runs is removed by the next run
+    // the work folder of a process that no longer runs is removed by the next run
     let mut child = Command::new("true").spawn().unwrap();
     let dead = child.id();
     child.wait().unwrap();
-    let stale = d.join(format!(".res.partial-{dead}"));
-    std::fs::create_dir(&stale).unwrap();
-    std::fs::write(stale.join("summary.json"), "{").unwrap();
+    let stale = d.join(".stride-work.res");
+    std::fs::create_dir_all(stale.join("partial")).unwrap();
+    std::fs::write(stale.join("partial/summary.json"), "{").unwrap();
+    let host = stride_files::process::this_host();
+    std::fs::write(stale.join("owner"), format!("{host} {dead} - 0\n")).unwrap();
     let out = stride_in(&d, &short_predict(Some(Path::new("res"))));
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
     assert!(!stale.exists());
@@ -378,11 +380,12 @@ fn a_study_folder_has_one_writer_and_corrupt_records_are_errors() {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    // wait until the first run holds the lock (its process id in the lock file)
+    // wait until the first run holds the lock (its process id and host in the lock file)
     let lock = out.join(".lock");
     let pid = first.id().to_string();
     for _ in 0..600 {
-        if std::fs::read_to_string(&lock).is_ok_and(|t| t.trim() == pid) {
+        let text = std::fs::read_to_string(&lock).unwrap_or_default();
+        if text.split_whitespace().next() == Some(pid.as_str()) {
             break;
         }
         std::thread::sleep(Duration::from_millis(20));
@@ -391,7 +394,11 @@ fn a_study_folder_has_one_writer_and_corrupt_records_are_errors() {
     let status = first.wait().unwrap();
     let err = text(&second.stderr);
     assert_eq!(second.status.code(), Some(1), "{err}");
-    assert!(err.contains(&format!("process id {pid}")), "{err}");
+    let host = stride_files::process::this_host();
+    assert!(
+        err.contains(&format!("process id {pid} on {host}")),
+        "{err}"
+    );
     assert_eq!(
         status.code(),
         Some(2),

@@ -177,14 +177,11 @@ fn kill_one_running_case(out: &Path, limit: Duration) -> String {
             else {
                 continue;
             };
-            let staging = std::fs::read_dir(out.join("cases"))
-                .unwrap()
-                .flatten()
-                .any(|e| {
-                    e.file_name()
-                        .to_string_lossy()
-                        .starts_with(&format!(".{name}.partial-"))
-                });
+            let staging = out
+                .join("cases")
+                .join(format!(".stride-work.{name}"))
+                .join("partial")
+                .is_dir();
             if staging && !out.join("cases").join(name).exists() {
                 std::thread::sleep(Duration::from_secs(1));
                 let k = Command::new("kill").args(["-9", &pid]).status().unwrap();

@@ -4,7 +4,8 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Write `bytes` to `path` atomically: write a temporary file in the same folder, then
-/// rename it over `path`, so readers never see a half-written result file.
+/// rename it over `path`, so readers never see a half-written result file. The temporary
+/// file is named by [`crate::process::temp_name`].
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -20,7 +21,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         })?
         .to_string_lossy()
         .into_owned();
-    let tmp = dir.join(format!(".{file_name}.tmp-{}", crate::process::owner_tag()));
+    let tmp = dir.join(crate::process::temp_name(&file_name));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;

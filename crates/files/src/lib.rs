@@ -1,8 +1,10 @@
 //! stride-files: how stride writes its results so that an interruption loses nothing.
 //!
 //! - [`atomic`]: one file written atomically (temporary file, then rename).
-//! - [`result_dir`]: result folders: what may be written or replaced, one staging folder per
-//!   result put in place whole, cleanup of what killed runs left behind.
+//! - [`result_dir`]: result folders: what may be written or replaced, which files are stride's,
+//!   a result staged and put in place whole.
+//! - [`reserve`]: one writer per result folder, and the work folder beside it that holds
+//!   everything stride writes next to a result.
 //! - [`lock`]: advisory file locks that name their holder.
 //! - [`claim`]: claims on one study case among writers on several machines.
 //! - [`process`]: this process as seen by others (host name, temporary-file tag, liveness).
@@ -11,6 +13,7 @@ pub mod atomic;
 pub mod claim;
 pub mod lock;
 pub mod process;
+pub mod reserve;
 pub mod result_dir;
 
 pub use atomic::write_atomic;

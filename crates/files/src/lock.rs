@@ -5,7 +5,18 @@
 use std::fs::File;
 use std::io::{Read as _, Seek as _, Write as _};
 use std::os::fd::AsRawFd as _;
+use std::os::unix::fs::MetadataExt as _;
 use std::path::{Path, PathBuf};
+
+use crate::process::this_host;
+
+/// Whether the open `file` is the file now at `path` (same device and inode).
+fn same_file(file: &File, path: &Path) -> bool {
+    match (file.metadata(), std::fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
 
 /// A lock held on a file until dropped.
 #[derive(Debug)]
@@ -19,12 +30,14 @@ pub struct FileLock {
 #[derive(Debug, thiserror::Error)]
 pub enum LockError {
     /// Another process holds the lock.
-    #[error("{path}: in use by another stride process{}", .holder.map(|p| format!(" (process id {p})")).unwrap_or_default())]
+    #[error("{path}: in use by another stride process{}", holder_text(*.holder, .host.as_deref()))]
     Held {
         /// Lock file.
         path: String,
         /// Process id written by the holder, when known.
         holder: Option<u32>,
+        /// Host written by the holder, when known.
+        host: Option<String>,
     },
     /// The lock file could not be opened or locked.
     #[error("{path}: cannot lock ({reason})")]
@@ -34,6 +47,15 @@ pub enum LockError {
         /// The system's reason.
         reason: String,
     },
+}
+
+/// ` (process id P on HOST)` for a lock holder, as far as known; empty when unknown.
+pub fn holder_text(pid: Option<u32>, host: Option<&str>) -> String {
+    match (pid, host) {
+        (Some(p), Some(h)) => format!(" (process id {p} on {h})"),
+        (Some(p), None) => format!(" (process id {p})"),
+        _ => String::new(),
+    }
 }
 
 /// How a lock is shared.
@@ -48,47 +70,59 @@ pub enum LockMode {
 
 impl FileLock {
     /// Take the lock on `path` (created if missing) without waiting; an exclusive holder
-    /// records its process id in the file.
+    /// records its process id and host in the file. A lock file removed or replaced by its
+    /// previous holder while this process opened it is opened again, so that two processes
+    /// never hold locks on two files of one name.
     pub fn try_lock(path: &Path, mode: LockMode) -> Result<FileLock, LockError> {
         let io = |e: std::io::Error| LockError::Io {
             path: path.display().to_string(),
             reason: e.to_string(),
         };
-        let mut file = std::fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(path)
-            .map_err(io)?;
-        let op = match mode {
-            LockMode::Exclusive => libc::LOCK_EX,
-            LockMode::Shared => libc::LOCK_SH,
-        } | libc::LOCK_NB;
-        // SAFETY: flock on a file descriptor this function owns.
-        if unsafe { libc::flock(file.as_raw_fd(), op) } != 0 {
-            let e = std::io::Error::last_os_error();
-            if e.raw_os_error() != Some(libc::EWOULDBLOCK) {
-                return Err(io(e));
+        for _ in 0..8 {
+            let mut file = std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(path)
+                .map_err(io)?;
+            let op = match mode {
+                LockMode::Exclusive => libc::LOCK_EX,
+                LockMode::Shared => libc::LOCK_SH,
+            } | libc::LOCK_NB;
+            // SAFETY: flock on a file descriptor this function owns.
+            if unsafe { libc::flock(file.as_raw_fd(), op) } != 0 {
+                let e = std::io::Error::last_os_error();
+                if e.raw_os_error() != Some(libc::EWOULDBLOCK) {
+                    return Err(io(e));
+                }
+                let mut text = String::new();
+                let _ = file.read_to_string(&mut text);
+                let mut words = text.split_whitespace();
+                return Err(LockError::Held {
+                    path: path.display().to_string(),
+                    holder: words.next().and_then(|p| p.parse().ok()),
+                    host: words.next().map(str::to_string),
+                });
             }
-            let mut text = String::new();
-            let _ = file.read_to_string(&mut text);
-            return Err(LockError::Held {
-                path: path.display().to_string(),
-                holder: text.trim().parse().ok(),
+            if !same_file(&file, path) {
+                continue;
+            }
+            if mode == LockMode::Exclusive {
+                file.set_len(0).map_err(io)?;
+                file.rewind().map_err(io)?;
+                writeln!(file, "{} {}", std::process::id(), this_host()).map_err(io)?;
+                file.flush().map_err(io)?;
+            }
+            return Ok(FileLock {
+                file,
+                path: path.to_path_buf(),
+                mode,
             });
         }
-        if mode == LockMode::Exclusive {
-            file.set_len(0).map_err(io)?;
-            file.rewind().map_err(io)?;
-            writeln!(file, "{}", std::process::id()).map_err(io)?;
-            file.flush().map_err(io)?;
-        }
-        Ok(FileLock {
-            file,
-            path: path.to_path_buf(),
-            mode,
-        })
+        Err(io(std::io::Error::other(
+            "the lock file keeps being replaced",
+        )))
     }
 
     /// The lock file.
@@ -138,15 +172,23 @@ mod tests {
             matches!(e, LockError::Held { holder: Some(pid), .. } if pid == std::process::id()),
             "{e}"
         );
-        assert!(e
-            .to_string()
-            .contains(&format!("process id {}", std::process::id())));
+        assert!(e.to_string().contains(&format!(
+            "process id {} on {}",
+            std::process::id(),
+            this_host()
+        )));
         assert!(FileLock::try_lock(&p, LockMode::Shared).is_err());
         drop(held);
         let a = FileLock::try_lock(&p, LockMode::Shared).unwrap();
         let b = FileLock::try_lock(&p, LockMode::Shared).unwrap();
         assert!(FileLock::try_lock(&p, LockMode::Exclusive).is_err());
         drop((a, b));
+        // a lock file removed by its holder before release is not locked by a late opener
+        let held = FileLock::try_lock(&p, LockMode::Exclusive).unwrap();
+        std::fs::remove_file(&p).unwrap();
+        let second = FileLock::try_lock(&p, LockMode::Exclusive).unwrap();
+        assert!(same_file(&second.file, &p) && !same_file(&held.file, &p));
+        drop((held, second));
         std::fs::remove_file(&p).unwrap();
     }
 }

@@ -154,7 +154,9 @@ pub fn rewrite_results(
     let outcomes = problem.outcomes(&node, &mesh, &cycle)?;
     let io = |e| write_err(out, e);
     write_staged(out, "rewrite", ResultKind::Prediction, io, |tmp| {
-        copy_tree(out, tmp)?;
+        // the files stride did not write stay in `out` and are moved over on commit
+        let foreign = stride_files::result_dir::foreign_entries(out).unwrap_or_default();
+        copy_tree(out, tmp, &foreign)?;
         crate::outputs::write_cycle(problem, &node, &cycle, tmp)?;
         summary["outcomes"] =
             serde_json::to_value(&outcomes).map_err(|e| write_err(&summary_path, e))?;
@@ -169,14 +171,21 @@ pub fn rewrite_results(
     Ok(outcomes)
 }
 
-/// Copy the files and subfolders of `from` into the existing folder `to`.
-fn copy_tree(from: &Path, to: &Path) -> Result<(), PredictError> {
+/// Copy the files and subfolders of `from` into the existing folder `to`, but the
+/// entries named in `skip`.
+fn copy_tree(from: &Path, to: &Path, skip: &[String]) -> Result<(), PredictError> {
     for entry in std::fs::read_dir(from).map_err(|e| write_err(from, e))? {
         let entry = entry.map_err(|e| write_err(from, e))?;
+        if skip
+            .iter()
+            .any(|n| *n == *entry.file_name().to_string_lossy())
+        {
+            continue;
+        }
         let dst = to.join(entry.file_name());
         if entry.file_type().map_err(|e| write_err(from, e))?.is_dir() {
             std::fs::create_dir(&dst).map_err(|e| write_err(&dst, e))?;
-            copy_tree(&entry.path(), &dst)?;
+            copy_tree(&entry.path(), &dst, &[])?;
         } else {
             std::fs::copy(entry.path(), &dst).map_err(|e| write_err(&dst, e))?;
         }

@@ -54,12 +54,14 @@ pub enum StoreError {
     #[error(transparent)]
     Output(#[from] OutputError),
     /// Another process runs a study in the folder.
-    #[error("{folder}: another stride process{} is running a study in this folder; wait for it to finish or use another output folder", .holder.map(|p| format!(" (process id {p})")).unwrap_or_default())]
+    #[error("{folder}: another stride process{} is running a study in this folder; wait for it to finish or use another output folder", stride_files::lock::holder_text(*.holder, .host.as_deref()))]
     Busy {
         /// Output folder.
         folder: String,
         /// Process id of the holder, when known.
         holder: Option<u32>,
+        /// Host of the holder, when known.
+        host: Option<String>,
     },
     /// A case record that cannot be read.
     #[error(
@@ -205,9 +207,10 @@ pub fn lock_study(root: &Path) -> Result<FileLock, StoreError> {
 
 fn lock_study_as(root: &Path, mode: LockMode) -> Result<FileLock, StoreError> {
     FileLock::try_lock(&root.join(STUDY_LOCK), mode).map_err(|e| match e {
-        LockError::Held { holder, .. } => StoreError::Busy {
+        LockError::Held { holder, host, .. } => StoreError::Busy {
             folder: root.display().to_string(),
             holder,
+            host,
         },
         LockError::Io { path, reason } => StoreError::Io { path, reason },
     })
@@ -296,18 +299,15 @@ impl Store {
                 .map_err(|e| io_err(&hash_file, e))?;
             write_atomic(&copy, study.source_text.as_bytes()).map_err(|e| io_err(&copy, e))?;
         }
-        // Temporary files and case folders of killed runs: of this host's dead processes;
-        // with the exclusive lock no other run can be in flight, so all of them.
-        result_dir::clean_stale(root);
-        result_dir::clean_stale(&cases);
+        // Temporary files and case work folders of killed runs: of this host's dead
+        // processes; with the exclusive lock no other run can be in flight, so all of them.
+        for dir in [root, cases.as_path()] {
+            result_dir::clean_stale(dir);
+            result_dir::clean_temp_files(dir);
+        }
         if mode == LockMode::Exclusive {
-            if let Ok(rd) = std::fs::read_dir(&cases) {
-                for e in rd.flatten() {
-                    let n = e.file_name().to_string_lossy().to_string();
-                    if n.starts_with(".tmp-") || (n.starts_with('.') && n.contains(".partial-")) {
-                        let _ = std::fs::remove_dir_all(e.path());
-                    }
-                }
+            for (name, _) in stride_files::reserve::work_folders(&cases) {
+                stride_files::reserve::clean_work_of(&cases, &name);
             }
         }
         Ok(store)
@@ -320,11 +320,11 @@ impl Store {
 
     /// Claim case `name` for this process before running it: `Ok(Err(holder))` when a live
     /// process (here or on another host) has it. The claim holder removes what killed runs
-    /// of the case left (staging folders of any host).
+    /// of the case left (its work folder, whichever host made it).
     pub fn claim(&self, name: &str) -> Result<Result<Claim, Holder>, StoreError> {
         match Claim::try_take(&self.claim_path(name), &self.job) {
             Ok(c) => {
-                result_dir::clean_staging_of(&self.cases_dir(), name);
+                stride_files::reserve::clean_work_of(&self.cases_dir(), name);
                 Ok(Ok(c))
             }
             Err(ClaimError::Held { holder, .. }) => Ok(Err(holder)),
@@ -359,9 +359,9 @@ impl Store {
     }
 
     /// Write a case's folder whole ([`result_dir::write_staged`]): `run` gets a fresh
-    /// staging folder (`cases/.<name>.partial-<host>-<pid>`), writes the case's result files
-    /// into it once and returns the case's record, which is written last; the folder then
-    /// replaces the case's final folder.
+    /// staging folder (in the work folder `cases/.stride-work.<name>`), writes the case's
+    /// result files into it once and returns the case's record, which is written last; the
+    /// folder then replaces the case's final folder.
     pub fn write_case(
         &self,
         name: &str,

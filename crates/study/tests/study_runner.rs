@@ -288,10 +288,15 @@ fn study_runs_in_parallel_records_failures_and_resumes() {
         other => panic!("{other:?}"),
     }
     drop(store);
-    // Rerun: nothing to do. A killed run's temporary folder is cleaned.
+    // Rerun: nothing to do. A killed run's work folder is cleaned; a user's folder is kept.
+    let killed = out.join("cases/.stride-work.speed_1.13__nominal__qr");
+    std::fs::create_dir_all(killed.join("partial")).unwrap();
+    std::fs::write(killed.join("owner"), "gone 999 - 0\n").unwrap();
     std::fs::create_dir_all(out.join("cases/.tmp-speed_1.13__nominal__qr-999")).unwrap();
     let store = Store::open(&out, &study, false).unwrap();
-    assert!(!out.join("cases/.tmp-speed_1.13__nominal__qr-999").exists());
+    assert!(!killed.exists());
+    assert!(out.join("cases/.tmp-speed_1.13__nominal__qr-999").exists());
+    std::fs::remove_dir(out.join("cases/.tmp-speed_1.13__nominal__qr-999")).unwrap();
     let fake2 = Fake::new();
     let s2 = run_study(&study, &store, &fake2, &opts(2)).unwrap();
     assert_eq!((s2.ran, s2.skipped), (0, 36));
@@ -472,8 +477,9 @@ fn single_case_runners_share_the_folder_and_leave_cases_claimed_elsewhere() {
         "elsewhere 1 9_1 0\n",
     )
     .unwrap();
-    let stale = out.join("cases/.speed_1.33__nominal__qr.partial-gone-77");
-    std::fs::create_dir_all(&stale).unwrap();
+    let stale = out.join("cases/.stride-work.speed_1.33__nominal__qr");
+    std::fs::create_dir_all(stale.join("partial")).unwrap();
+    std::fs::write(stale.join("owner"), "gone 77 - 0\n").unwrap();
     let mut mask = vec![false; study.cases.len()];
     for n in [
         "speed_1.33__nominal__qr",

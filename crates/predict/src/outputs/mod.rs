@@ -7,7 +7,8 @@
 //! - [`opensim`]: files OpenSim and Moco open as they are: the model (`model.osim`), the
 //!   motion (`motion.mot`), ground reaction forces with their external-loads description
 //!   (`grf.mot`, `grf.xml`), states, controls and both as a Moco trajectory (`states.sto`,
-//!   `controls.sto`, `trajectory.sto`).
+//!   `controls.sto`, `trajectory.sto`), and the inverse-dynamics setup that reproduces the
+//!   joint torques (`id_setup.xml`).
 //!
 //! Figures are drawn by [`crate::figures`].
 
@@ -17,8 +18,8 @@ mod tables;
 mod torques;
 
 pub use opensim::{
-    model_coordinates, CONTROLS_FILE, GRF_FILE, GRF_XML_FILE, MODEL_FILE, MOTION_FILE, STATES_FILE,
-    TRAJECTORY_FILE,
+    model_coordinates, CONTROLS_FILE, GRF_FILE, GRF_XML_FILE, ID_RESULTS_DIR, ID_SETUP_FILE,
+    MODEL_FILE, MOTION_FILE, STATES_FILE, TRAJECTORY_FILE,
 };
 pub use tables::{column_name, summary_units};
 
@@ -42,6 +43,7 @@ pub fn write_cycle(
     opensim::write_model(&problem.model, dir)?;
     opensim::write_motion(problem, cycle, dir)?;
     opensim::write_ground_reactions(problem, cycle, dir)?;
+    opensim::write_id_setup(&cycle.time, dir)?;
     opensim::write_states_and_controls(problem, cycle, &samples, dir)?;
     let t = CycleTables::new(problem, cycle);
     tables::write_tables(&t, dir)?;

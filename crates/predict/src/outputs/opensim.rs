@@ -21,6 +21,10 @@ pub const MOTION_FILE: &str = "motion.mot";
 pub const GRF_FILE: &str = "grf.mot";
 /// OpenSim `ExternalLoads` applying `grf.mot` to `calcn_r` and `calcn_l`.
 pub const GRF_XML_FILE: &str = "grf.xml";
+/// OpenSim inverse-dynamics setup of the folder (`opensim-cmd run-tool id_setup.xml`).
+pub const ID_SETUP_FILE: &str = "id_setup.xml";
+/// Folder (inside the result folder) where the inverse-dynamics setup writes its torques.
+pub const ID_RESULTS_DIR: &str = "inverse_dynamics";
 /// Coordinate values and speeds, muscle activations and fibre lengths (OpenSim state paths).
 pub const STATES_FILE: &str = "states.sto";
 /// Muscle excitations and arm actuator controls (OpenSim actuator paths).
@@ -163,6 +167,33 @@ pub(super) fn write_ground_reactions(
         GRF_FILE,
     )?;
     write_file(dir, GRF_XML_FILE, &external_loads_xml())
+}
+
+/// Write `id_setup.xml`, an OpenSim `InverseDynamicsTool` setup that computes the net joint
+/// torques of `joint_torques.csv` from the folder's files: `model.osim` with every model
+/// force excluded (muscles, passive elements and the contact spheres, whose forces
+/// `grf.mot` already holds: applying both would count the ground reactions twice),
+/// `motion.mot` unfiltered, the ground reactions through `grf.xml`, over the cycle's times
+/// `t` [s]. The torques go to `inverse_dynamics/inverse_dynamics.sto`.
+pub(super) fn write_id_setup(t: &[f64], dir: &Path) -> Result<(), PredictError> {
+    let (t0, t1) = (
+        t.first().copied().unwrap_or(0.0),
+        t.last().copied().unwrap_or(0.0),
+    );
+    let xml = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<OpenSimDocument Version=\"40000\">\n\
+         \t<InverseDynamicsTool name=\"inverse_dynamics\">\n\
+         \t\t<results_directory>{ID_RESULTS_DIR}</results_directory>\n\
+         \t\t<model_file>{MODEL_FILE}</model_file>\n\
+         \t\t<time_range>{t0:.9} {t1:.9}</time_range>\n\
+         \t\t<forces_to_exclude>All</forces_to_exclude>\n\
+         \t\t<external_loads_file>{GRF_XML_FILE}</external_loads_file>\n\
+         \t\t<coordinates_file>{MOTION_FILE}</coordinates_file>\n\
+         \t\t<lowpass_cutoff_frequency_for_coordinates>-1</lowpass_cutoff_frequency_for_coordinates>\n\
+         \t\t<output_gen_force_file>inverse_dynamics.sto</output_gen_force_file>\n\
+         \t</InverseDynamicsTool>\n</OpenSimDocument>\n"
+    );
+    write_file(dir, ID_SETUP_FILE, &xml)
 }
 
 /// The OpenSim `ExternalLoads` document of `grf.mot`: one `ExternalForce` per foot, force,
