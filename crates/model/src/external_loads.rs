@@ -98,6 +98,14 @@ pub enum ExternalLoadsError {
         /// Why.
         reason: String,
     },
+    /// The forces do not suit their use (e.g. no force on one foot).
+    #[error("{path}: {reason}")]
+    Unusable {
+        /// The file.
+        path: String,
+        /// Why.
+        reason: String,
+    },
     /// The data file named by `<datafile>` cannot be read.
     #[error("{path}: <datafile> `{datafile}`: {reason}")]
     DataFile {
@@ -136,12 +144,11 @@ impl ExternalLoads {
     /// Reads an ExternalLoads file (at most [`MAX_EXTERNAL_LOADS_BYTES`]).
     pub fn read(path: &Path) -> Result<Self, ExternalLoadsError> {
         let name = path.display().to_string();
-        let bytes = read_limited(path, MAX_EXTERNAL_LOADS_BYTES).map_err(|e| {
-            ExternalLoadsError::Read {
+        let bytes =
+            read_limited(path, MAX_EXTERNAL_LOADS_BYTES).map_err(|e| ExternalLoadsError::Read {
                 path: name.clone(),
                 reason: e.to_string(),
-            }
-        })?;
+            })?;
         let text = String::from_utf8(bytes).map_err(|_| ExternalLoadsError::Read {
             path: name.clone(),
             reason: "not UTF-8 text".into(),
@@ -158,8 +165,7 @@ impl ExternalLoads {
             line,
             reason,
         };
-        crate::osim::input::check_depth(text, 64, &name)
-            .map_err(|e| format(0, e.to_string()))?;
+        crate::osim::input::check_depth(text, 64, &name).map_err(|e| format(0, e.to_string()))?;
         let doc = roxmltree::Document::parse(text)
             .map_err(|e| format(e.pos().row as usize, format!("malformed XML: {e}")))?;
         let loads = doc
@@ -241,7 +247,10 @@ fn force(
         _ => "ground".to_string(),
     };
     let flag = |element: &str| -> Result<Option<bool>, ExternalLoadsError> {
-        match child_text(n, element).map(str::to_ascii_lowercase).as_deref() {
+        match child_text(n, element)
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
             None => Ok(None),
             Some("true" | "1") => Ok(Some(true)),
             Some("false" | "0") => Ok(Some(false)),
