@@ -70,22 +70,28 @@ fn moco_2d_walking_forces_are_read_with_bodies_identifiers_and_data_file() {
     assert_eq!(l.forces[1].force_identifier, "ground_force_l_v");
     assert_eq!(l.forces[0].torque_identifier, "ground_torque_r_");
     assert!(l.forces.iter().all(|f| f.enabled));
-    assert!(l.datafile.ends_with("moco_example2DWalking/referenceGRF.sto"));
+    assert!(l
+        .datafile
+        .ends_with("moco_example2DWalking/referenceGRF.sto"));
     assert_eq!(l.read_data().unwrap().n_rows(), 50);
 }
 
 #[test]
 fn disabled_forces_are_marked_in_both_versions_and_paths_are_reduced() {
-    let forces = force_xml("a", "/bodyset/calcn_r", "", "<isDisabled> true </isDisabled>\n")
-        + &force_xml("b", "calcn_l", "1_", "<appliesForce>false</appliesForce>\n")
+    let forces = force_xml(
+        "a",
+        "/bodyset/calcn_r",
+        "",
+        "<isDisabled> true </isDisabled>\n",
+    ) + &force_xml("b", "calcn_l", "1_", "<appliesForce>false</appliesForce>\n")
         + &force_xml(
             "c",
             "calcn_l",
             "2_",
             "<force_expressed_in_body>/ground</force_expressed_in_body>\n",
         );
-    let l = ExternalLoads::parse(&doc(&forces, "sub/grf.mot"), Path::new("/data/loads.xml"))
-        .unwrap();
+    let l =
+        ExternalLoads::parse(&doc(&forces, "sub/grf.mot"), Path::new("/data/loads.xml")).unwrap();
     assert_eq!(
         l.forces.iter().map(|f| f.enabled).collect::<Vec<_>>(),
         [false, false, true]
@@ -111,10 +117,16 @@ fn a_force_without_a_body_or_identifier_is_an_error_naming_the_force_and_element
                    <point_identifier>p</point_identifier><torque_identifier>t</torque_identifier>\
                    </ExternalForce>";
     let m = error_of(&doc(no_body, "grf.mot"));
-    assert!(m.contains("`right`") && m.contains("<applied_to_body>"), "{m}");
+    assert!(
+        m.contains("`right`") && m.contains("<applied_to_body>"),
+        "{m}"
+    );
     let no_point = force_xml("left", "calcn_l", "", "").replace("ground_force_p", "");
     let m = error_of(&doc(&no_point, "grf.mot"));
-    assert!(m.contains("`left`") && m.contains("<point_identifier>"), "{m}");
+    assert!(
+        m.contains("`left`") && m.contains("<point_identifier>"),
+        "{m}"
+    );
     let bad_flag = force_xml("left", "calcn_l", "", "<isDisabled>maybe</isDisabled>");
     let m = error_of(&doc(&bad_flag, "grf.mot"));
     assert!(m.contains("<isDisabled>"), "{m}");
@@ -143,9 +155,16 @@ fn a_missing_data_file_or_column_is_an_error_naming_the_xml_and_the_datafile() {
     let labels = "time\tground_force_vx\tground_force_vy\tground_force_vz\tground_force_px\t\
                   ground_force_py\tground_force_pz\tground_torque_x\tground_torque_y";
     let rows = "0\t1\t2\t3\t4\t5\t6\t7\t8\n";
-    std::fs::write(dir.join("grf.mot"), format!("grf\nendheader\n{labels}\n{rows}")).unwrap();
+    std::fs::write(
+        dir.join("grf.mot"),
+        format!("grf\nendheader\n{labels}\n{rows}"),
+    )
+    .unwrap();
     let m = l.read_data().unwrap_err().to_string();
-    assert!(m.contains("loads.xml") && m.contains("`ground_torque_z`"), "{m}");
+    assert!(
+        m.contains("loads.xml") && m.contains("`ground_torque_z`"),
+        "{m}"
+    );
     assert!(m.contains("`r`"), "{m}");
     let _ = std::fs::remove_dir_all(&dir);
 }
