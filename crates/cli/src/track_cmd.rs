@@ -33,16 +33,22 @@ pub struct TrackArgs {
     /// Fitted muscle geometry of the model (`stride model fit --out`).
     #[arg(long, value_name = "FILE")]
     pub geometry: Option<PathBuf>,
-    /// Joint angles to track (.mot); default: the shipped trial gait_1.
-    #[arg(long)]
+    /// Joint angles to track (.mot/.sto: degrees or radians as its `inDegrees` header says,
+    /// columns named by coordinate or by OpenSim 4 state path
+    /// `/jointset/<joint>/<coordinate>/value`; a coupled coordinate it lacks is computed from
+    /// its constraint); default: the shipped trial gait_1.
+    #[arg(long, value_name = "FILE")]
     pub motion: Option<PathBuf>,
-    /// Ground reaction forces (.mot), with --motion.
-    #[arg(long)]
+    /// Ground reaction forces, with --motion: an OpenSim ExternalLoads file (.xml: the foot
+    /// body each force acts on, its column identifiers and the `<datafile>`, relative to the
+    /// .xml), or a .mot whose column prefixes are detected (`1_`/none, `r_`/`l_`).
+    #[arg(long, value_name = "FILE")]
     pub grf: Option<PathBuf>,
     /// Net joint torques (.sto), optional with --motion.
     #[arg(long)]
     pub torques: Option<PathBuf>,
-    /// Time window start and end [s] (default 3.45,4.25).
+    /// Time window start and end [s], anywhere inside the data of the motion, forces and
+    /// torques (default 3.45,4.25, for gait_1).
     #[arg(long, value_delimiter = ',')]
     pub window: Option<Vec<f64>>,
     /// Cut-off of the low-pass filter of the joint angles [Hz] (default 6; 0: no filter,

@@ -13,6 +13,7 @@
 //! - [`shipped`]: the models shipped with stride, usable by name.
 
 pub mod default_model;
+pub mod external_loads;
 pub mod function;
 pub mod inspect;
 pub mod model;

@@ -15,7 +15,7 @@
 
 mod forces;
 mod functions;
-mod input;
+pub(crate) mod input;
 mod skeleton;
 mod wrap;
 mod xml;

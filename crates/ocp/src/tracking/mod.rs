@@ -4,6 +4,10 @@
 //! fixed time window (no symmetry, no speed constraint, fixed duration).
 
 pub mod calibration;
+pub mod feet;
+pub mod ground_reactions;
+pub mod motion_columns;
+pub mod series;
 pub mod trial;
 
 pub use crate::tracking_terms::{TrackedModel, TrackingTerms, TrackingWeights};
@@ -30,16 +34,20 @@ use trial::{Sample, Trial, TrialError, TrialFiles};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct TrackSettings {
-    /// Joint angles to track (`.mot`); unset: the shipped trial gait_1 (with its forces and
-    /// torques).
+    /// Joint angles to track (`.mot`/`.sto`, degrees or radians as its header says,
+    /// coordinate names or OpenSim 4 state paths; a coupled coordinate it lacks is computed
+    /// from its constraint); unset: the shipped trial gait_1 (with its forces and torques).
     pub motion: Option<PathBuf>,
-    /// Ground reaction forces (`.mot`); needed with `motion`.
+    /// Ground reaction forces: an OpenSim ExternalLoads file (`.xml`: the bodies the
+    /// forces act on, their columns, and the data file) or a `.mot` whose column prefixes
+    /// are detected; needed with `motion`.
     pub grf: Option<PathBuf>,
     /// Net joint torques (`.sto`); optional with `motion` (without: neither torques nor
     /// root residuals are tracked).
     pub torques: Option<PathBuf>,
-    /// Column prefixes of the right and the left foot in the GRF file; unset: the first of
-    /// [`trial::KNOWN_GRF_PREFIXES`] the file has.
+    /// Column prefixes of the right and the left foot in a GRF `.mot` file; unset: the
+    /// first of [`trial::KNOWN_GRF_PREFIXES`] the file has (not with an ExternalLoads file,
+    /// which names its columns).
     pub grf_prefixes: Option<[String; 2]>,
     /// Time window [s] of the trial.
     pub window: [f64; 2],
@@ -123,6 +131,17 @@ impl TrackSettings {
                 self.filter_cutoff_hz
             )));
         }
+        let [t0, t1] = self.window;
+        if !(t0 < t1) {
+            return Err(TrialError::EmptyWindow { t0, t1 }.into());
+        }
+        if self.grf_prefixes.is_some() && self.grf.as_deref().is_some_and(trial::is_external_loads)
+        {
+            return Err(TrackError::Settings(
+                "`grf_prefixes` is for a GRF .mot file; the ExternalLoads file `grf` names its columns"
+                    .into(),
+            ));
+        }
         let w = &self.weights;
         let all = [
             w.kinematics,
@@ -194,7 +213,9 @@ impl TrackingProblem {
     /// Build the tracking problem of `model` for `settings`.
     pub fn new(model: &Model, settings: &TrackSettings) -> Result<Self, TrackError> {
         settings.check()?;
-        let files = settings.files()?;
+        let mut files = settings.files()?;
+        let motion = &mut files.motion;
+        motion.1 = motion_columns::motion_for_model(&motion.1, model, &motion.0)?;
         let ps = ProblemSettings {
             mesh_intervals: settings.mesh_intervals,
             cycle: CycleKind::FullPeriodic,
@@ -203,15 +224,20 @@ impl TrackingProblem {
         };
         let mut problem = GaitProblem::new(model, &ps, &files.motion.1)?;
         let mut settings = settings.clone();
-        let prefixes = settings
-            .grf_prefixes
-            .get_or_insert_with(|| trial::detect_grf_prefixes(&files.grf.1).map(String::from));
-        let prefixes = [prefixes[0].as_str(), prefixes[1].as_str()];
+        let grf_columns = match &files.loads {
+            Some(loads) => feet::foot_columns(loads, model).map_err(TrialError::from)?,
+            None => {
+                let prefixes = settings.grf_prefixes.get_or_insert_with(|| {
+                    trial::detect_grf_prefixes(&files.grf.1).map(String::from)
+                });
+                prefixes.clone().map(|p| trial::prefixed_columns(&p))
+            }
+        };
         let trial = Trial::new(
             &files,
             &problem.gait,
             settings.window,
-            prefixes,
+            &grf_columns,
             settings.filter_cutoff_hz,
         )?;
         // bounds: the trial's range widened by one range (FORMULATION 12.6)

@@ -2,9 +2,12 @@
 //! reaction forces of both feet and optionally net joint torques (inverse dynamics), read,
 //! checked against the model and the time window, filtered and sampled at any time.
 
+use super::ground_reactions::GroundReactions;
+use super::series::interp;
 use crate::experimental::Kinematics;
 use crate::gait::GaitModel;
 use std::path::{Path, PathBuf};
+use stride_model::external_loads::{ExternalLoads, ExternalLoadsError};
 use stride_model::storage::Storage;
 
 const GAIT_1_IK: &str = include_str!("../../data/gait_1_ik.mot");
@@ -33,6 +36,39 @@ pub enum TrialError {
         /// Column.
         column: String,
     },
+    /// The window is empty or reversed.
+    #[error("window [{t0}, {t1}] s: its end must come after its start (the window is empty or reversed)")]
+    EmptyWindow {
+        /// Window start [s].
+        t0: f64,
+        /// Window end [s].
+        t1: f64,
+    },
+    /// An ExternalLoads file, its data file, or how its forces map onto the feet.
+    #[error(transparent)]
+    ExternalLoads(#[from] ExternalLoadsError),
+    /// Two columns of the motion give the same coordinate.
+    #[error("{file}: column `{column}` gives coordinate `{coordinate}`, which another column already gives")]
+    DuplicateColumn {
+        /// File.
+        file: String,
+        /// The second column.
+        column: String,
+        /// The coordinate.
+        coordinate: String,
+    },
+    /// A coupled coordinate could not be computed from its constraint.
+    #[error("{file}: coordinate `{coordinate}` from constraint `{constraint}`: {reason}")]
+    Coupled {
+        /// File.
+        file: String,
+        /// The dependent coordinate.
+        coordinate: String,
+        /// The constraint.
+        constraint: String,
+        /// Why.
+        reason: String,
+    },
     /// The window lies (partly) outside the data.
     #[error("{file}: window [{t0}, {t1}] s is not inside the data ({d0} to {d1} s)")]
     Window {
@@ -57,8 +93,11 @@ pub enum TrialError {
 pub struct TrialFiles {
     /// Joint angles (`.mot`, degrees or radians as its header says).
     pub motion: (String, Storage),
-    /// Ground reaction forces, centres of pressure and free torques (`.mot`).
+    /// Ground reaction forces, centres of pressure and free torques (`.mot`; the data
+    /// file of `loads` when the forces come from an ExternalLoads file).
     pub grf: (String, Storage),
+    /// The ExternalLoads file that names the bodies and columns of the forces, if given.
+    pub loads: Option<ExternalLoads>,
     /// Net joint torques (`.sto`, `<coordinate>_moment` / `_force` columns), if tracked.
     pub torques: Option<(String, Storage)>,
 }
@@ -81,18 +120,35 @@ impl TrialFiles {
         Self {
             motion: parse(GAIT_1_IK, "gait_1_ik.mot"),
             grf: parse(GAIT_1_GRF, "gait_1_grf.mot"),
+            loads: None,
             torques: Some(parse(GAIT_1_ID, "gait_1_id.sto")),
         }
     }
 
-    /// Reads the files of a trial.
+    /// Reads the files of a trial; `grf` is a storage file (`.mot`/`.sto`) or an
+    /// ExternalLoads file (`.xml`), whose data file is read.
     pub fn read(motion: &Path, grf: &Path, torques: Option<&PathBuf>) -> Result<Self, TrialError> {
+        let motion = read(motion)?;
+        let (grf, loads) = if is_external_loads(grf) {
+            let loads = ExternalLoads::read(grf)?;
+            let data = loads.read_data()?;
+            ((loads.datafile.display().to_string(), data), Some(loads))
+        } else {
+            (read(grf)?, None)
+        };
         Ok(Self {
-            motion: read(motion)?,
-            grf: read(grf)?,
+            motion,
+            grf,
+            loads,
             torques: torques.map(|p| read(p)).transpose()?,
         })
     }
+}
+
+/// Whether `path` names an ExternalLoads file (extension `.xml`, any case).
+pub fn is_external_loads(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
 }
 
 /// Column prefixes of the two feet in a GRF file (right, left) and the column names of
@@ -127,6 +183,11 @@ pub fn detect_grf_prefixes(grf: &Storage) -> [&'static str; 2] {
         .unwrap_or(KNOWN_GRF_PREFIXES[0])
 }
 
+/// The nine columns of one foot whose GRF columns start with `prefix` ([`GRF_COLUMNS`]).
+pub fn prefixed_columns(prefix: &str) -> [String; 9] {
+    GRF_COLUMNS.map(|c| format!("{prefix}{c}"))
+}
+
 /// The measured quantities at one time, in SI units and problem coordinate order.
 #[derive(Clone, Debug, Default)]
 pub struct Sample {
@@ -150,22 +211,11 @@ pub struct Trial {
     kin: Kinematics,
     /// Forward-translation offset removed from the kinematics and the centres of pressure [m].
     pub tx_offset: f64,
-    grf_time: Vec<f64>,
-    /// Per GRF sample: right then left foot, the 9 columns of [`GRF_COLUMNS`].
-    grf: Vec<[f64; 18]>,
+    grf: GroundReactions,
     tau_time: Vec<f64>,
     tau: Vec<Vec<f64>>,
     /// Window [s].
     pub window: [f64; 2],
-}
-
-/// Linear interpolation of `rows` (one per time of `time`) at `t` (clamped at the ends).
-fn interp<const N: usize>(time: &[f64], t: f64, row: impl Fn(usize) -> [f64; N]) -> [f64; N] {
-    let n = time.len();
-    let s = time.partition_point(|&x| x <= t).clamp(1, n - 1) - 1;
-    let w = ((t - time[s]) / (time[s + 1] - time[s])).clamp(0.0, 1.0);
-    let (a, b) = (row(s), row(s + 1));
-    std::array::from_fn(|i| a[i] + w * (b[i] - a[i]))
 }
 
 /// Checks that `window` lies inside the times of `file`.
@@ -173,7 +223,10 @@ fn check_window(file: &str, time: &[f64], window: [f64; 2]) -> Result<(), TrialE
     let d0 = time.first().copied().unwrap_or(f64::NAN);
     let d1 = time.last().copied().unwrap_or(f64::NAN);
     let [t0, t1] = window;
-    let inside = time.len() >= 2 && t0 < t1 && t0 >= d0 - 1e-9 && t1 <= d1 + 1e-9;
+    if !(t0 < t1) {
+        return Err(TrialError::EmptyWindow { t0, t1 });
+    }
+    let inside = time.len() >= 2 && t0 >= d0 - 1e-9 && t1 <= d1 + 1e-9;
     if !inside {
         return Err(TrialError::Window {
             file: file.into(),
@@ -187,14 +240,15 @@ fn check_window(file: &str, time: &[f64], window: [f64; 2]) -> Result<(), TrialE
 }
 
 impl Trial {
-    /// Checks and prepares `files` for `gait` over `window` [s]; the right foot's GRF
-    /// columns start with `prefixes[0]`, the left foot's with `prefixes[1]`; the joint
-    /// angles are low-pass filtered at `cutoff_hz` [Hz] (0: not filtered).
+    /// Checks and prepares `files` for `gait` over `window` [s] (any window inside the
+    /// data: its ends may fall between samples); `grf_columns` are the right then the left
+    /// foot's GRF columns (force x y z [N], centre of pressure x y z [m], free torque x y z
+    /// [N m]); the joint angles are low-pass filtered at `cutoff_hz` [Hz] (0: not filtered).
     pub fn new(
         files: &TrialFiles,
         gait: &GaitModel,
         window: [f64; 2],
-        prefixes: [&str; 2],
+        grf_columns: &[[String; 9]; 2],
         cutoff_hz: f64,
     ) -> Result<Self, TrialError> {
         let (mname, motion) = &files.motion;
@@ -203,22 +257,7 @@ impl Trial {
         let tx = gait.forward_translation;
         let tx_offset = interp::<1>(&kin.time, window[0], |s| [kin.q[s][tx]])[0];
         kin.q.iter_mut().for_each(|r| r[tx] -= tx_offset);
-        let (gname, grf_s) = &files.grf;
-        let grf_time = grf_s.time();
-        check_window(gname, &grf_time, window)?;
-        let mut cols = Vec::with_capacity(18);
-        for prefix in prefixes {
-            for c in GRF_COLUMNS {
-                let name = format!("{prefix}{c}");
-                cols.push(grf_s.column(&name).ok_or(TrialError::MissingColumn {
-                    file: gname.clone(),
-                    column: name,
-                })?);
-            }
-        }
-        let grf = (0..grf_time.len())
-            .map(|s| std::array::from_fn(|i| cols[i][s]))
-            .collect();
+        let grf = Self::ground_reactions(files, grf_columns, window)?;
         let (mut tau_time, mut tau) = (Vec::new(), Vec::new());
         if let Some((tname, ts)) = &files.torques {
             tau_time = ts.time();
@@ -239,12 +278,31 @@ impl Trial {
         Ok(Self {
             kin,
             tx_offset,
-            grf_time,
             grf,
             tau_time,
             tau,
             window,
         })
+    }
+
+    /// The ground reactions of `files` in the columns `grf_columns` (right then left foot,
+    /// the nine of [`GRF_COLUMNS`] each), checked to cover `window` [s].
+    pub fn ground_reactions(
+        files: &TrialFiles,
+        grf_columns: &[[String; 9]; 2],
+        window: [f64; 2],
+    ) -> Result<GroundReactions, TrialError> {
+        let (name, grf) = &files.grf;
+        let time = grf.time();
+        check_window(name, &time, window)?;
+        let mut columns: [Vec<f64>; 18] = Default::default();
+        for (c, label) in columns.iter_mut().zip(grf_columns.iter().flatten()) {
+            *c = grf.column(label).ok_or_else(|| TrialError::MissingColumn {
+                file: name.clone(),
+                column: label.clone(),
+            })?;
+        }
+        Ok(GroundReactions::new(time, &columns))
     }
 
     /// Whether the trial has joint torques.
@@ -261,20 +319,7 @@ impl Trial {
                 .map(|i| interp::<1>(&k.time, t, |s| [rows[s][i]])[0])
                 .collect()
         };
-        let g = interp::<18>(&self.grf_time, t, |s| self.grf[s]);
-        let (mut grf, mut grt) = ([0.0; 6], [0.0; 6]);
-        for foot in 0..2 {
-            let c = &g[9 * foot..9 * foot + 9];
-            let f = [c[0], c[1], c[2]];
-            let p = [c[3] - self.tx_offset, c[4], c[5]];
-            let m = [
-                p[1] * f[2] - p[2] * f[1] + c[6],
-                p[2] * f[0] - p[0] * f[2] + c[7],
-                p[0] * f[1] - p[1] * f[0] + c[8],
-            ];
-            grf[3 * foot..3 * foot + 3].copy_from_slice(&f);
-            grt[3 * foot..3 * foot + 3].copy_from_slice(&m);
-        }
+        let (grf, grt) = self.grf.at(t, self.tx_offset);
         let tau = if self.has_torques() {
             (0..nq)
                 .map(|i| interp::<1>(&self.tau_time, t, |s| [self.tau[s][i]])[0])
@@ -292,25 +337,30 @@ impl Trial {
         }
     }
 
-    /// Per coordinate: (min, max) of position, speed and acceleration over the window.
+    /// Per coordinate: (min, max) of position, speed and acceleration over the window
+    /// (the samples inside it and the values interpolated at its ends).
     pub fn ranges(&self) -> [Vec<(f64, f64)>; 3] {
         let k = &self.kin;
         let [t0, t1] = self.window;
-        let inside: Vec<usize> = (0..k.time.len())
+        let ends = [self.sample(t0), self.sample(t1)];
+        let mut rows: Vec<[&[f64]; 3]> = (0..k.time.len())
             .filter(|&s| k.time[s] >= t0 - 1e-9 && k.time[s] <= t1 + 1e-9)
+            .map(|s| [&k.q[s][..], &k.v[s][..], &k.a[s][..]])
             .collect();
+        rows.extend(ends.iter().map(|e| [&e.q[..], &e.v[..], &e.a[..]]));
         let nq = k.q.first().map_or(0, Vec::len);
-        let range = |rows: &Vec<Vec<f64>>| -> Vec<(f64, f64)> {
+        std::array::from_fn(|m| {
             (0..nq)
                 .map(|i| {
-                    inside
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &s| {
-                            (lo.min(rows[s][i]), hi.max(rows[s][i]))
+                    rows.iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                            (lo.min(r[m][i]), hi.max(r[m][i]))
                         })
                 })
                 .collect()
-        };
-        [range(&k.q), range(&k.v), range(&k.a)]
+        })
     }
 }
+
+#[cfg(test)]
+mod tests;
