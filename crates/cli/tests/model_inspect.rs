@@ -1,6 +1,7 @@
 //! `stride model inspect` on bad models: a contact sphere on a missing frame, a coordinate
 //! coupler naming a missing coordinate, an unknown joint class, a wrap object of an
-//! unknown class and a path point on a missing body are each one error line with the
+//! unknown class, a path point on a missing body, an expression OpenSim's parser rejects
+//! and a `FunctionBasedPath` polynomial of the wrong dimension are each one error line with the
 //! file, the line and the element's name, and a non-zero exit.
 
 mod common;
@@ -167,5 +168,48 @@ fn path_point_on_a_missing_body() {
         &model(PIN, extra),
         "/bodyset/nowhere",
         "PathPoint[name=insertion]",
+    );
+}
+
+#[test]
+fn expression_force_with_an_expression_opensim_rejects() {
+    let extra = r#"    <components>
+      <ExpressionBasedCoordinateForce name="knee_spring">
+        <coordinate>q1</coordinate>
+        <expression>-10*floor(q) - 2*qdot</expression>
+      </ExpressionBasedCoordinateForce>
+    </components>"#;
+    check(
+        "expr.osim",
+        &model(PIN, extra),
+        "<expression>",
+        "knee_spring",
+    );
+}
+
+#[test]
+fn function_based_path_with_the_wrong_number_of_coordinates() {
+    let extra = r#"    <components>
+      <DeGrooteFregly2016Muscle name="vasti">
+        <FunctionBasedPath name="path">
+          <coordinate_paths>/jointset/pin/q1</coordinate_paths>
+          <length_function>
+            <MultivariatePolynomialFunction>
+              <coefficients>0.3 -0.02 0.01</coefficients>
+              <dimension>2</dimension>
+              <order>1</order>
+            </MultivariatePolynomialFunction>
+          </length_function>
+        </FunctionBasedPath>
+        <max_isometric_force>1000</max_isometric_force>
+        <optimal_fiber_length>0.1</optimal_fiber_length>
+        <tendon_slack_length>0.2</tendon_slack_length>
+      </DeGrooteFregly2016Muscle>
+    </components>"#;
+    check(
+        "fbp.osim",
+        &model(PIN, extra),
+        "<MultivariatePolynomialFunction>",
+        "vasti",
     );
 }

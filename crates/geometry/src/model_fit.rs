@@ -233,7 +233,30 @@ pub fn fit_model(
 ) -> Result<FitReport, GeometryError> {
     let sampled = sample_geometry(model, poses, options.span_threshold)?;
     let names: Vec<&str> = model.muscles.iter().map(|m| m.name.as_str()).collect();
-    fit_sampled(model, "muscle", &names, &sampled, &options.fit)
+    let mut report = fit_sampled(model, "muscle", &names, &sampled, &options.fit)?;
+    use_own_polynomials(model, &mut report);
+    Ok(report)
+}
+
+/// Muscles whose length the model itself gives as a polynomial (OpenSim
+/// `FunctionBasedPath`) keep that polynomial: it is their geometry, exact by definition.
+fn use_own_polynomials(model: &Model, report: &mut FitReport) {
+    for (m, muscle) in model.muscles.iter().enumerate() {
+        let Some(p) = &muscle.path_function else {
+            continue;
+        };
+        let row = &mut report.rows[m];
+        row.spanned = p
+            .coordinates
+            .iter()
+            .map(|&c| model.coordinates[c].name.clone())
+            .collect();
+        row.order = p.order;
+        row.rms_length_mm = 0.0;
+        row.max_rms_moment_arm_mm = 0.0;
+        row.meets_tolerance = true;
+        report.polynomials[m] = Some(p.clone());
+    }
 }
 
 /// Fits the length polynomial of every ligament of `model` over the coordinates it spans

@@ -15,6 +15,18 @@ fn g(x: f64) -> String {
     }
 }
 
+/// The De Groote–Fregly options of a muscle that differ from the standard curves.
+fn de_groote_options(mu: &crate::model::Muscle) -> String {
+    let mut o = String::new();
+    if mu.active_force_width_scale != 1.0 {
+        o += &format!("  active width x{}", mu.active_force_width_scale);
+    }
+    if mu.ignore_passive_fiber_force {
+        o += "  no passive fibre force";
+    }
+    o
+}
+
 /// Render all tables of a model: coordinates, bodies and total mass [kg], joints,
 /// muscles, contact spheres, actuators, passive torques, polynomial geometry and the
 /// unsupported elements of the source file.
@@ -128,20 +140,27 @@ pub fn render(model: &Model) -> String {
                 PathPointKind::Moving { .. } => mv += 1,
             }
         }
+        let path = match &mu.path_function {
+            Some(p) => format!(
+                "polynomial, order {} ({} terms)",
+                p.order,
+                p.coefficients.len()
+            ),
+            None => format!("{f:>2}/{c}/{mv}"),
+        };
         let _ = writeln!(
             s,
-            "{:<14} {:>8.1} {:>9.6} {:>9.6} {:>9.6} {:>6.1}  {:>2}/{}/{}                      {:.4} {:.5}",
+            "{:<14} {:>8.1} {:>9.6} {:>9.6} {:>9.6} {:>6.1}  {:<27} {:.4} {:.5}{}",
             mu.name,
             mu.max_isometric_force,
             mu.optimal_fiber_length,
             mu.tendon_slack_length,
             mu.pennation_angle_at_optimal,
             mu.max_contraction_velocity,
-            f,
-            c,
-            mv,
+            path,
             mu.slow_twitch_fraction,
-            mu.specific_tension / 1e6
+            mu.specific_tension / 1e6,
+            de_groote_options(mu)
         );
     }
 
@@ -313,6 +332,7 @@ fn render_other_forces(s: &mut String, m: &Model) {
                     rest_length,
                     viscosity,
                 } => format!("spring k {stiffness} rest {rest_length} viscosity {viscosity}"),
+                CoordinateForceLaw::Expression(e) => format!("expression {}", e.source()),
             };
             let _ = writeln!(
                 s,

@@ -6,6 +6,8 @@
 //! - [`storage`]: OpenSim `.mot`/`.sto` files, bounded reads.
 //! - [`signal`]: filtering and splines for experimental data.
 //! - [`function`]: coordinate functions (linear, splines, ...) generic over the scalar.
+//! - [`expression`]: arithmetic expressions in OpenSim's syntax, compiled once, generic over
+//!   the scalar.
 //! - [`reference`]: loaders of the paper's reference tables.
 //! - [`default_model`]: the built-in model.
 //! - [`model_settings`]: a model's own settings file (`<model>.toml`).
@@ -13,6 +15,7 @@
 //! - [`shipped`]: the models shipped with stride, usable by name.
 
 pub mod default_model;
+pub mod expression;
 pub mod external_loads;
 pub mod function;
 pub mod inspect;

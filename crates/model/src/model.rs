@@ -52,7 +52,7 @@ pub struct Model {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub couplers: Vec<CoordinateCoupler>,
     /// Generalised forces of one coordinate (OpenSim `CoordinateLimitForce`,
-    /// `SpringGeneralizedForce`).
+    /// `SpringGeneralizedForce`, `ExpressionBasedCoordinateForce`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub coordinate_forces: Vec<CoordinateForce>,
     /// The OpenSim model file this model was imported from (result folders ship a copy of
@@ -243,11 +243,16 @@ pub struct Muscle {
     pub pennation_angle_at_optimal: f64,
     /// Maximal contraction velocity [l_opt s⁻¹] (10 in the paper).
     pub max_contraction_velocity: f64,
-    /// Path points from origin to insertion.
+    /// Path points from origin to insertion (empty when `path_function` gives the length).
     pub path: Vec<PathPoint>,
     /// Wrap objects the path wraps over, in the order OpenSim applies them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub wraps: Vec<PathWrap>,
+    /// The muscle–tendon length [m] as the model's own polynomial of coordinates (OpenSim
+    /// `FunctionBasedPath` with a `MultivariatePolynomialFunction`): the muscle's geometry,
+    /// used as it is (moment arms −∂l/∂q), no path points and no fit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path_function: Option<PathPolynomial>,
     /// Fraction of slow-twitch fibres (0–1) for the metabolic models (0.5 when unknown).
     pub slow_twitch_fraction: f64,
     /// Specific tension σ [Pa] used for the muscle mass (0.25 MPa when unknown).
@@ -266,6 +271,15 @@ pub struct Muscle {
     /// `muscle_pass_stiff_scale`; 1 when unset).
     #[serde(default = "unit_scale", skip_serializing_if = "is_unit")]
     pub passive_fibre_scale: f64,
+    /// Width scale w ≥ 1 of the active fibre force–length curve: `f_L` is evaluated at
+    /// `(l̃_M − 1)/w + 1`, widening the curve about its peak (OpenSim
+    /// `DeGrooteFregly2016Muscle` `active_force_width_scale`; 1 when unset).
+    #[serde(default = "unit_scale", skip_serializing_if = "is_unit")]
+    pub active_force_width_scale: f64,
+    /// Whether the passive fibre force is zero at every length (OpenSim
+    /// `DeGrooteFregly2016Muscle` `ignore_passive_fiber_force`; false when unset).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub ignore_passive_fiber_force: bool,
     /// Steepness b of the smooth conditionals `½(1 + tanh(b x))` in the Bhargava (2004)
     /// metabolic rate (10 in the paper; PredSim's `b`).
     #[serde(
@@ -282,6 +296,10 @@ fn unit_scale() -> f64 {
 /// The paper's steepness of the metabolic smooth conditionals (10).
 pub fn default_metabolic_smoothing() -> f64 {
     10.0
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 fn is_unit(x: &f64) -> bool {
@@ -592,6 +610,9 @@ pub enum CoordinateForceLaw {
         /// Whether the coordinate is an angle (file values in degrees).
         rotational: bool,
     },
+    /// OpenSim `ExpressionBasedCoordinateForce`: `τ = expression(q, q̇)` [N m or N], an
+    /// expression of the variables `q` [rad or m] and `qdot` [rad s⁻¹ or m s⁻¹].
+    Expression(crate::expression::Expression),
     /// OpenSim `SpringGeneralizedForce`:
     /// `τ = −stiffness (q − rest_length) − viscosity q̇` [N m or N].
     Spring {

@@ -1,5 +1,6 @@
 //! Force laws of the passive elements OpenSim models carry besides muscles and contacts:
-//! `CoordinateLimitForce`, `SpringGeneralizedForce` (generalised forces of one coordinate)
+//! `CoordinateLimitForce`, `SpringGeneralizedForce`, `ExpressionBasedCoordinateForce`
+//! (generalised forces of one coordinate)
 //! and `Ligament` (tension along a path), as OpenSim defines them.
 
 use stride_ad::Scalar;
@@ -26,6 +27,7 @@ fn step<T: Scalar>(x: T, x0: f64, x1: f64, y0: f64, y1: f64) -> T {
 /// k₋(q) = step from K_lo to 0 over [q_lo − w·transition, q_lo], and
 /// `τ = −k₊ (q − q_up) + k₋ (q_lo − q) − D (k₊/K_up + k₋/K_lo) q̇`.
 /// `SpringGeneralizedForce`: `τ = −k (q − q₀) − c q̇`.
+/// `ExpressionBasedCoordinateForce`: `τ` = its expression of `q` and `qdot`.
 pub fn coordinate_force<T: Scalar>(law: &CoordinateForceLaw, q: T, qdot: T) -> T {
     match *law {
         CoordinateForceLaw::Spring {
@@ -33,6 +35,7 @@ pub fn coordinate_force<T: Scalar>(law: &CoordinateForceLaw, q: T, qdot: T) -> T
             rest_length,
             viscosity,
         } => (q - rest_length) * (-stiffness) - qdot * viscosity,
+        CoordinateForceLaw::Expression(ref e) => e.eval(&[q, qdot]),
         CoordinateForceLaw::CoordinateLimit {
             upper_stiffness,
             upper_limit,

@@ -33,6 +33,10 @@ pub struct HillParams {
     /// Passive fibre curve shift λ and exponent scale κ.
     passive_shift: f64,
     passive_scale: f64,
+    /// Width scale of the active force–length curve (≥ 1).
+    active_width: f64,
+    /// Whether the passive fibre force is zero.
+    no_passive: bool,
     /// Steepness of the Bhargava metabolic smooth conditionals.
     metabolic_smoothing: f64,
     // derived
@@ -112,6 +116,8 @@ impl HillParams {
             f_st: slow_twitch_fraction,
             passive_shift: 1.0,
             passive_scale: 1.0,
+            active_width: 1.0,
+            no_passive: false,
             metabolic_smoothing: crate::metabolic::SMOOTHING,
             height: 0.0,
             v_max: 0.0,
@@ -136,7 +142,9 @@ impl HillParams {
             m.slow_twitch_fraction,
         )?
         .with_tendon_stiffness(TENDON_STIFFNESS_DEFAULT * m.tendon_stiffness_scale)?
-        .with_passive_fibre(m.passive_fibre_shift, m.passive_fibre_scale)?;
+        .with_passive_fibre(m.passive_fibre_shift, m.passive_fibre_scale)?
+        .with_active_width(m.active_force_width_scale)?;
+        p.no_passive = m.ignore_passive_fiber_force;
         if !(m.metabolic_smoothing.is_finite() && m.metabolic_smoothing > 0.0) {
             return Err(MuscleError::InvalidParameter {
                 muscle: m.name.clone(),
@@ -168,6 +176,22 @@ impl HillParams {
         }
         self.passive_shift = shift;
         self.passive_scale = scale;
+        Ok(self)
+    }
+
+    /// Same muscle with the active force–length curve widened by `width` ≥ 1 about its
+    /// peak: `f_L` evaluated at `(l̃_M − 1)/width + 1` (OpenSim's
+    /// `active_force_width_scale`; 1 gives FORMULATION 3's curve).
+    pub fn with_active_width(mut self, width: f64) -> Result<Self, MuscleError> {
+        if !(width.is_finite() && width >= 1.0) {
+            return Err(MuscleError::InvalidParameter {
+                muscle: self.name,
+                parameter: "active_force_width_scale",
+                value: width,
+                reason: "must be finite and ≥ 1",
+            });
+        }
+        self.active_width = width;
         Ok(self)
     }
 
@@ -333,9 +357,17 @@ pub fn hill_equilibrium<T: Scalar>(
     let vt = tendon_force_norm_rate * p.l_ts / tendon_stiffness(lt_norm, p.k_t);
     let vm = (mt_velocity - vt) * cos_a;
     let vm_norm = vm / p.v_max;
-    let fl = active_force_length(lm_norm);
+    let fl = if p.active_width == 1.0 {
+        active_force_length(lm_norm)
+    } else {
+        active_force_length((lm_norm - 1.0) * (1.0 / p.active_width) + 1.0)
+    };
     let fv = force_velocity(vm_norm);
-    let fpe = passive_force_length_shifted(lm_norm, p.passive_shift, p.passive_scale);
+    let fpe = if p.no_passive {
+        T::zero()
+    } else {
+        passive_force_length_shifted(lm_norm, p.passive_shift, p.passive_scale)
+    };
     let fce_norm = activation * fl * fv + vm_norm * FIBER_DAMPING;
     let residual = (fce_norm + fpe) * cos_a - tendon_force_norm;
     HillOutput {

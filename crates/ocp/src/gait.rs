@@ -333,7 +333,10 @@ fn unsided_mirror_sign(model: &Model, c: CoordId) -> Option<f64> {
 /// Problem index of the root translation along ground axis `k` (0 = x, 1 = y).
 fn translation_along(model: &Model, coords: &[GaitCoordinate], k: usize) -> Option<usize> {
     coords.iter().position(|gc| {
-        if gc.actuation != Actuation::Root || gc.motion_type != MotionType::Translational {
+        // OpenSim calls a root translation coupled when its axis function is not a plain
+        // unit-slope LinearFunction (e.g. a scaled model's MultiplierFunction): the axis
+        // decides, not the motion type.
+        if gc.actuation != Actuation::Root || gc.motion_type == MotionType::Rotational {
             return false;
         }
         let joint = &model.joints[model.coordinates[gc.model_index].joint];

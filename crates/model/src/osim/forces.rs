@@ -7,28 +7,26 @@ use super::skeleton::Frames;
 use super::xml::{child, last_component, mul, name_of, objects, rot_xyz, tag, text};
 use super::xml::{report, Ctx, El};
 use super::OsimError;
+use crate::expression::Expression;
 use crate::model::{
     ContactParameters, ContactSphere, CoordinateActuator, CoordinateForce, CoordinateForceLaw,
     Ligament, Model, MotionType, Muscle, MuscleKind, PathPoint, PathPointKind,
 };
 use std::collections::HashMap;
 
-/// Read the `ForceSet` (and the contact geometry it references) into `model`.
+/// Read the force elements `forces` (of the `ForceSet` and the component tree) with the
+/// contact geometry `geometry` they reference into `model`.
 pub(crate) fn read_forces<'a, 'i>(
     ctx: &Ctx<'a, 'i>,
-    model_el: El<'a, 'i>,
+    forces: &[El<'a, 'i>],
+    geometry: &[El<'a, 'i>],
     v4: bool,
     frames: &Frames<'a, 'i>,
     model: &mut Model,
 ) -> Result<(), OsimError> {
-    let geometry: HashMap<&str, El> = child(model_el, "ContactGeometrySet")
-        .map(|g| objects(g).into_iter().map(|e| (name_of(e), e)).collect())
-        .unwrap_or_default();
+    let geometry: HashMap<&str, El> = geometry.iter().map(|e| (name_of(*e), *e)).collect();
     let mut used_geometry: Vec<&str> = Vec::new();
-    let Some(force_set) = child(model_el, "ForceSet") else {
-        return Ok(());
-    };
-    for f in objects(force_set) {
+    for &f in forces {
         let disabled = if v4 {
             !ctx.opt_bool(f, "appliesForce", true)?
         } else {
@@ -56,7 +54,9 @@ pub(crate) fn read_forces<'a, 'i>(
                 let l = ligament(ctx, f, v4, frames, model)?;
                 model.ligaments.push(l);
             }
-            "CoordinateLimitForce" | "SpringGeneralizedForce" => {
+            "CoordinateLimitForce"
+            | "SpringGeneralizedForce"
+            | "ExpressionBasedCoordinateForce" => {
                 let c = coordinate_force(ctx, f, model)?;
                 model.coordinate_forces.push(c);
             }
@@ -67,7 +67,8 @@ pub(crate) fn read_forces<'a, 'i>(
                         "force `{}` of type `{other}` is not supported: it would change the \
                          dynamics (supported: muscles, CoordinateActuator, \
                          ActivationCoordinateActuator, SmoothSphereHalfSpaceForce, Ligament, \
-                         CoordinateLimitForce, SpringGeneralizedForce; disable it with \
+                         CoordinateLimitForce, SpringGeneralizedForce, \
+                         ExpressionBasedCoordinateForce; disable it with \
                          appliesForce false to import the rest)",
                         name_of(f)
                     ),
@@ -164,10 +165,19 @@ fn ligament(
     })
 }
 
-/// A `CoordinateLimitForce` or `SpringGeneralizedForce`.
+/// A `CoordinateLimitForce`, `SpringGeneralizedForce` or `ExpressionBasedCoordinateForce`.
 fn coordinate_force(ctx: &Ctx, f: El, model: &Model) -> Result<CoordinateForce, OsimError> {
     let coordinate = coordinate_ref(ctx, ctx.req(f, "coordinate")?, model)?;
-    let law = if tag(f) == "SpringGeneralizedForce" {
+    let law = if tag(f) == "ExpressionBasedCoordinateForce" {
+        let el = ctx.req(f, "expression")?;
+        let e = Expression::parse(text(el), &["q", "qdot"]).map_err(|e| {
+            ctx.err(
+                el,
+                format!("ExpressionBasedCoordinateForce `{}`: {e}", name_of(f)),
+            )
+        })?;
+        CoordinateForceLaw::Expression(e)
+    } else if tag(f) == "SpringGeneralizedForce" {
         CoordinateForceLaw::Spring {
             stiffness: ctx.opt_f64(f, "stiffness", 0.0)?,
             rest_length: ctx.opt_f64(f, "rest_length", 0.0)?,
@@ -191,7 +201,8 @@ fn coordinate_force(ctx: &Ctx, f: El, model: &Model) -> Result<CoordinateForce, 
             lower_limit: ctx.req_f64(f, "lower_limit")?,
             damping: ctx.opt_f64(f, "damping", 0.0)?,
             transition,
-            rotational: model.coordinates[coordinate].motion_type != MotionType::Translational,
+            // OpenSim scales by π/180 for a rotational coordinate only (not a coupled one).
+            rotational: model.coordinates[coordinate].motion_type == MotionType::Rotational,
         }
     };
     Ok(CoordinateForce {
@@ -237,9 +248,18 @@ fn muscle(
     frames: &Frames,
     model: &mut Model,
 ) -> Result<Muscle, OsimError> {
-    let gp = ctx.req(f, "GeometryPath")?;
-    let path = geometry_path_points(ctx, gp, "muscle", v4, frames, model)?;
-    let wraps = super::wrap::read_path_wraps(ctx, gp, path.len(), model)?;
+    let (path, wraps, path_function) = match child(f, "FunctionBasedPath") {
+        Some(fbp) => {
+            let p = super::function_path::function_based_path(ctx, f, fbp, model)?;
+            (Vec::new(), Vec::new(), Some(p))
+        }
+        None => {
+            let gp = ctx.req(f, "GeometryPath")?;
+            let path = geometry_path_points(ctx, gp, "muscle", v4, frames, model)?;
+            let wraps = super::wrap::read_path_wraps(ctx, gp, path.len(), model)?;
+            (path, wraps, None)
+        }
+    };
     let positive = |tagname: &str, v: f64| -> Result<f64, OsimError> {
         if v > 0.0 && v.is_finite() {
             Ok(v)
@@ -247,7 +267,7 @@ fn muscle(
             Err(ctx.err(ctx.req(f, tagname)?, format!("must be positive, found {v}")))
         }
     };
-    Ok(Muscle {
+    let mut m = Muscle {
         name: name_of(f).to_string(),
         kind,
         max_isometric_force: positive(
@@ -266,13 +286,73 @@ fn muscle(
         max_contraction_velocity: ctx.opt_f64(f, "max_contraction_velocity", 10.0)?,
         path,
         wraps,
+        path_function,
         slow_twitch_fraction: 0.5,
         specific_tension: 0.25e6,
         tendon_stiffness_scale: 1.0,
         passive_fibre_shift: 1.0,
         passive_fibre_scale: 1.0,
+        active_force_width_scale: 1.0,
+        ignore_passive_fiber_force: false,
         metabolic_smoothing: crate::model::default_metabolic_smoothing(),
-    })
+    };
+    if kind == MuscleKind::DeGrooteFregly2016 {
+        de_groote_options(ctx, f, &mut m, model)?;
+    }
+    Ok(m)
+}
+
+/// The options of an OpenSim `DeGrooteFregly2016Muscle` beyond the common Hill parameters:
+/// the active curve width and the passive fibre force take effect; a rigid tendon, no
+/// activation dynamics, another tendon strain or fibre damping than stride's (compliant
+/// tendon, activation dynamics, 0.049 and 0.01) are reported, as stride does not model
+/// them per muscle.
+fn de_groote_options(ctx: &Ctx, f: El, m: &mut Muscle, model: &mut Model) -> Result<(), OsimError> {
+    let width = ctx.opt_f64(f, "active_force_width_scale", 1.0)?;
+    if !(width >= 1.0 && width.is_finite()) {
+        let at = child(f, "active_force_width_scale").unwrap_or(f);
+        return Err(ctx.err(at, format!("must be at least 1, found {width}")));
+    }
+    m.active_force_width_scale = width;
+    m.ignore_passive_fiber_force = ctx.opt_bool(f, "ignore_passive_fiber_force", false)?;
+    if ctx.opt_bool(f, "ignore_tendon_compliance", false)? {
+        report(
+            ctx,
+            model,
+            f,
+            "ignore_tendon_compliance is true: stride models every tendon as compliant \
+             (De Groote 2016 tendon force state), so this muscle's tendon stretches",
+        );
+    }
+    if ctx.opt_bool(f, "ignore_activation_dynamics", false)? {
+        report(
+            ctx,
+            model,
+            f,
+            "ignore_activation_dynamics is true: stride keeps the activation dynamics",
+        );
+    }
+    // stride's tendon curve (k_T = 35 × the muscle's tendon_stiffness_scale, set in the
+    // model's settings) and its fibre damping 0.01 (FORMULATION 3).
+    for (tagname, stride_value, hint) in [
+        (
+            "tendon_strain_at_one_norm_force",
+            0.049,
+            "set tendon_stiffness_scale in the model's settings",
+        ),
+        ("fiber_damping", 0.01, "stride's fibre damping is fixed"),
+    ] {
+        let v = ctx.opt_f64(f, tagname, stride_value)?;
+        if v != stride_value {
+            report(
+                ctx,
+                model,
+                f,
+                format!("{tagname} {v} is not used: stride uses {stride_value} ({hint})"),
+            );
+        }
+    }
+    Ok(())
 }
 
 /// Coordinate index named by element `el` (plain name or 4.x component path).

@@ -3,17 +3,23 @@
 //! [`load_osim`] reads a file, [`parse_osim`] a string. Imported: bodies; joints
 //! (`CustomJoint` with any of the functions of [`crate::Function`], `PinJoint`,
 //! `SliderJoint`, `PlanarJoint`, `UniversalJoint`, `GimbalJoint`, `BallJoint`,
-//! `FreeJoint`, `WeldJoint`); coordinates; `CoordinateCouplerConstraint`s; muscles of the
-//! Thelen 2003, Millard 2012, De Groote–Fregly 2016 and rigid-tendon classes (their
-//! common Hill parameters) with fixed, conditional and moving path points;
+//! `FreeJoint`, `WeldJoint`); coordinates with OpenSim's motion types;
+//! `CoordinateCouplerConstraint`s; muscles of the Thelen 2003, Millard 2012, De
+//! Groote–Fregly 2016 (with its active curve width and passive force options) and
+//! rigid-tendon classes (their common Hill parameters) on paths of fixed, conditional and
+//! moving points or on a `FunctionBasedPath` with a `MultivariatePolynomialFunction`;
 //! `CoordinateActuator`s and `ActivationCoordinateActuator`s;
-//! `SmoothSphereHalfSpaceForce` contacts; `Ligament`s; `CoordinateLimitForce`s and
-//! `SpringGeneralizedForce`s. Any other joint, constraint or force element is an error
-//! naming it and its line (it would change the dynamics); path wrapping and model
-//! components are listed in [`Model::unsupported`]; visual and bookkeeping content is
-//! counted in one summary entry there.
+//! `SmoothSphereHalfSpaceForce` contacts; `Ligament`s; `CoordinateLimitForce`s,
+//! `SpringGeneralizedForce`s and `ExpressionBasedCoordinateForce`s. These are read from
+//! the classic sets and from the component tree (the model's `<components>` and nested
+//! ones, `ComponentSet`). Any other joint, constraint or force element is an error naming
+//! it and its line (it would change the dynamics); path wrapping, other component types
+//! and options stride does not model are listed in [`Model::unsupported`]; visual and
+//! bookkeeping content is counted in one summary entry there.
 
+mod components;
 mod forces;
+mod function_path;
 mod functions;
 pub(crate) mod input;
 mod skeleton;
@@ -154,33 +160,31 @@ pub fn parse_osim(text_in: &str, source_name: &str) -> Result<Model, OsimError> 
         }
     }
     let frames = skeleton::read_skeleton(&ctx, model_el, v4, &mut model)?;
-    if let Some(cs) = child(model_el, "ConstraintSet") {
-        skeleton::read_constraints(&ctx, cs, v4, &mut model)?;
-    }
+    let tree = components::gather(model_el);
+    skeleton::read_constraints(&ctx, &tree.constraints, v4, &mut model)?;
     wrap::read_wrap_objects(&ctx, model_el, &frames, &mut model)?;
-    forces::read_forces(&ctx, model_el, v4, &frames, &mut model)?;
+    forces::read_forces(&ctx, &tree.forces, &tree.geometry, v4, &frames, &mut model)?;
+    for o in &tree.others {
+        xml::report(
+            &ctx,
+            &mut model,
+            *o,
+            format!("model component of type `{}` is not read", tag(*o)),
+        );
+    }
     report_other_content(&ctx, model_el, &mut model);
     Ok(model)
 }
 
-/// Constraints, components and other mechanics → unsupported entries; visual and
-/// bookkeeping content → one summary entry.
+/// Visual and bookkeeping content → one summary entry (the component tree is read by
+/// [`components::gather`]).
 fn report_other_content(ctx: &Ctx, model_el: xml::El, model: &mut Model) {
     let mut skipped: BTreeMap<String, usize> = BTreeMap::new();
     for c in elements(model_el) {
         match tag(c) {
             "credits" | "publications" | "length_units" | "force_units" | "gravity" | "BodySet"
-            | "JointSet" | "ForceSet" | "ContactGeometrySet" | "Ground" | "ConstraintSet" => {}
-            "ComponentSet" => {
-                for o in objects(c) {
-                    xml::report(ctx, model, o, format!("{} are not supported", tag(c)));
-                }
-            }
-            "components" => {
-                for o in elements(c) {
-                    xml::report(ctx, model, o, "model components are not supported");
-                }
-            }
+            | "JointSet" | "ForceSet" | "ContactGeometrySet" | "Ground" | "ConstraintSet"
+            | "ComponentSet" | "components" => {}
             "MarkerSet" | "ControllerSet" | "ProbeSet" => {
                 for o in objects(c) {
                     *skipped.entry(tag(o).to_string()).or_default() += 1;

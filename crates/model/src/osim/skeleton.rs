@@ -395,15 +395,45 @@ fn infer_motion_type(joint: El, coord: &str, index: Option<usize>) -> MotionType
     let Some(st) = child(joint, "SpatialTransform") else {
         return MotionType::Rotational;
     };
+    // OpenSim's rule (CustomJoint): go through rotation1–3 then translation1–3; an axis
+    // whose function is a `LinearFunction` of slope ±1 in the coordinate makes it
+    // rotational or translational (the last such axis decides); any other function makes
+    // it coupled unless a pure axis decides.
+    let mut motion: Option<MotionType> = None;
     for ax in elements(st) {
         let uses = child_text(ax, "coordinates")
             .split_whitespace()
             .any(|c| c == coord);
-        if uses && name_of(ax).starts_with("translation") {
-            return MotionType::Translational;
+        if !uses {
+            continue;
+        }
+        if unit_linear_function(ax) {
+            motion = Some(if name_of(ax).starts_with("translation") {
+                MotionType::Translational
+            } else {
+                MotionType::Rotational
+            });
+        } else if motion.is_none() {
+            motion = Some(MotionType::Coupled);
         }
     }
-    MotionType::Rotational
+    // A coordinate no axis uses has no motion type in OpenSim; stride counts it as an angle.
+    motion.unwrap_or(MotionType::Rotational)
+}
+
+/// Whether the function of a `TransformAxis` is a `LinearFunction` of slope +1 or −1 (the
+/// axis angle or displacement is the coordinate itself, up to sign and offset).
+fn unit_linear_function(axis: El) -> bool {
+    let direct = elements(axis).find(|e| tag(*e) == "LinearFunction");
+    let nested = child(axis, "function").and_then(|f| elements(f).next());
+    let Some(f) = direct.or(nested).filter(|f| tag(*f) == "LinearFunction") else {
+        return false;
+    };
+    let slope = child_text(f, "coefficients")
+        .split_whitespace()
+        .next()
+        .and_then(|t| t.parse::<f64>().ok());
+    matches!(slope, Some(s) if s == 1.0 || s == -1.0)
 }
 
 fn const_axis(axis: [f64; 3]) -> TransformAxis {
@@ -606,11 +636,11 @@ fn transform_axis(
 /// disabled constraints are reported; any other enforced constraint is an error.
 pub(crate) fn read_constraints(
     ctx: &Ctx,
-    set: El,
+    constraints: &[El],
     v4: bool,
     model: &mut Model,
 ) -> Result<(), OsimError> {
-    for c in objects(set) {
+    for &c in constraints {
         let enforced = if v4 {
             ctx.opt_bool(c, "isEnforced", true)?
         } else {
