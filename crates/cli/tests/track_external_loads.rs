@@ -124,7 +124,11 @@ fn an_external_loads_file_with_bad_bodies_or_data_is_rejected_and_nothing_is_wri
     case(
         &[("left", "foot_l", "l_", ""), right],
         "grf.mot",
-        &["loads.xml", "ExternalForce `left`", "`foot_l` is not a body of the model"],
+        &[
+            "loads.xml",
+            "ExternalForce `left`",
+            "`foot_l` is not a body of the model",
+        ],
     );
     case(
         &[left, right],
@@ -144,7 +148,11 @@ fn an_external_loads_file_with_bad_bodies_or_data_is_rejected_and_nothing_is_wri
     case(
         &[left, right, ("again", "toes_r", "r_", "")],
         "grf.mot",
-        &["loads.xml", "ExternalForce `again`", "already acts on the right foot"],
+        &[
+            "loads.xml",
+            "ExternalForce `again`",
+            "already acts on the right foot",
+        ],
     );
     let frame = "<point_expressed_in_body>calcn_r</point_expressed_in_body>";
     case(
@@ -156,7 +164,10 @@ fn an_external_loads_file_with_bad_bodies_or_data_is_rejected_and_nothing_is_wri
     case(
         &[left, ("right", "calcn_r", "r_", off)],
         "grf.mot",
-        &["loads.xml", "no applied ExternalForce acts on the right foot"],
+        &[
+            "loads.xml",
+            "no applied ExternalForce acts on the right foot",
+        ],
     );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -20,12 +20,18 @@ fn a_window_between_two_motion_samples_has_bounds_holding_its_ends() {
     let tp = problem([3.452, 3.457]).unwrap();
     let b = &tp.problem.bounds;
     for (i, r) in b.q.iter().chain(&b.v).chain(&b.a).enumerate() {
-        assert!(r.lo.is_finite() && r.hi.is_finite() && r.lo < r.hi, "bound {i}: {r:?}");
+        assert!(
+            r.lo.is_finite() && r.hi.is_finite() && r.lo < r.hi,
+            "bound {i}: {r:?}"
+        );
     }
     for t in tp.trial.window {
         let s = tp.trial.sample(t);
         for (i, (q, r)) in s.q.iter().zip(&b.q).enumerate() {
-            assert!(r.lo <= *q && *q <= r.hi, "q{i} = {q} at {t} s outside {r:?}");
+            assert!(
+                r.lo <= *q && *q <= r.hi,
+                "q{i} = {q} at {t} s outside {r:?}"
+            );
         }
     }
     assert!(tp.x0.iter().all(|v| v.is_finite()));
@@ -49,6 +55,12 @@ fn grf_prefixes_with_an_external_loads_file_is_an_error() {
         ..Default::default()
     };
     let model = stride_model::default_model::default_model();
-    let m = TrackingProblem::new(&model, &settings).err().unwrap().to_string();
-    assert!(m.contains("grf_prefixes") && m.contains("ExternalLoads"), "{m}");
+    let m = TrackingProblem::new(&model, &settings)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        m.contains("grf_prefixes") && m.contains("ExternalLoads"),
+        "{m}"
+    );
 }

@@ -132,7 +132,7 @@ impl TrackSettings {
             )));
         }
         let [t0, t1] = self.window;
-        if !(t0 < t1) {
+        if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
             return Err(TrialError::EmptyWindow { t0, t1 }.into());
         }
         if self.grf_prefixes.is_some() && self.grf.as_deref().is_some_and(trial::is_external_loads)

@@ -223,7 +223,7 @@ fn check_window(file: &str, time: &[f64], window: [f64; 2]) -> Result<(), TrialE
     let d0 = time.first().copied().unwrap_or(f64::NAN);
     let d1 = time.last().copied().unwrap_or(f64::NAN);
     let [t0, t1] = window;
-    if !(t0 < t1) {
+    if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
         return Err(TrialError::EmptyWindow { t0, t1 });
     }
     let inside = time.len() >= 2 && t0 >= d0 - 1e-9 && t1 <= d1 + 1e-9;

@@ -3,7 +3,7 @@ use std::path::{Path, PathBuf};
 use stride_model::default_model::default_model;
 
 /// The OpenSim reference models folder, or `None` (with the reason printed) when absent.
-pub(crate) fn opensim_models() -> Option<PathBuf> {
+fn opensim_models() -> Option<PathBuf> {
     let p = PathBuf::from(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/reference/models/opensim"
