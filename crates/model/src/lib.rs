@@ -14,7 +14,9 @@
 
 pub mod default_model;
 pub mod function;
+pub mod input_file;
 pub mod inspect;
+pub mod contact_check;
 pub mod model;
 pub mod model_settings;
 pub mod osim;
