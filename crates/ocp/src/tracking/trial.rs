@@ -47,6 +47,26 @@ pub enum TrialError {
         /// Last time of the data [s].
         d1: f64,
     },
+    /// The window is empty, reversed or not finite.
+    #[error("window [{t0}, {t1}] s: the end must be after the start")]
+    EmptyWindow {
+        /// Window start [s].
+        t0: f64,
+        /// Window end [s].
+        t1: f64,
+    },
+    /// A measured value the tracking uses is NaN or infinite.
+    #[error("{file}: column `{column}` is not finite ({value}) at t = {time} s")]
+    NotFinite {
+        /// File.
+        file: String,
+        /// Column.
+        column: String,
+        /// Time of the row [s].
+        time: f64,
+        /// The value.
+        value: f64,
+    },
     /// Kinematics unusable.
     #[error(transparent)]
     Kinematics(#[from] crate::experimental::KinematicsError),
@@ -66,7 +86,15 @@ pub struct TrialFiles {
 /// Reads a storage file, naming it in the error.
 fn read(path: &Path) -> Result<(String, Storage), TrialError> {
     let name = path.display().to_string();
-    let s = Storage::read(path).map_err(|e| TrialError::Read(format!("{name}: {e}")))?;
+    let s = Storage::read(path).map_err(|e| {
+        let message = e.to_string();
+        // storage errors of a file already start with its name
+        TrialError::Read(if message.starts_with(&name) {
+            message
+        } else {
+            format!("{name}: {message}")
+        })
+    })?;
     Ok((name, s))
 }
 
@@ -168,6 +196,27 @@ fn interp<const N: usize>(time: &[f64], t: f64, row: impl Fn(usize) -> [f64; N])
     std::array::from_fn(|i| a[i] + w * (b[i] - a[i]))
 }
 
+/// Checks that every value of `columns` (named `names`, one value per time of `time`) of
+/// `file` is finite.
+fn check_finite(
+    file: &str,
+    time: &[f64],
+    names: &[String],
+    columns: &[Vec<f64>],
+) -> Result<(), TrialError> {
+    for (name, col) in names.iter().zip(columns) {
+        if let Some((s, v)) = col.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(TrialError::NotFinite {
+                file: file.into(),
+                column: name.clone(),
+                time: time.get(s).copied().unwrap_or(f64::NAN),
+                value: *v,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Checks that `window` lies inside the times of `file`.
 fn check_window(file: &str, time: &[f64], window: [f64; 2]) -> Result<(), TrialError> {
     let d0 = time.first().copied().unwrap_or(f64::NAN);
@@ -197,6 +246,10 @@ impl Trial {
         prefixes: [&str; 2],
         cutoff_hz: f64,
     ) -> Result<Self, TrialError> {
+        let [t0, t1] = window;
+        if !(t0.is_finite() && t1.is_finite() && t0 < t1) {
+            return Err(TrialError::EmptyWindow { t0, t1 });
+        }
         let (mname, motion) = &files.motion;
         check_window(mname, &motion.time(), window)?;
         let mut kin = Kinematics::from_storage_filtered(motion, gait, mname, cutoff_hz)?;
@@ -206,16 +259,18 @@ impl Trial {
         let (gname, grf_s) = &files.grf;
         let grf_time = grf_s.time();
         check_window(gname, &grf_time, window)?;
-        let mut cols = Vec::with_capacity(18);
+        let (mut cols, mut names) = (Vec::with_capacity(18), Vec::with_capacity(18));
         for prefix in prefixes {
             for c in GRF_COLUMNS {
                 let name = format!("{prefix}{c}");
                 cols.push(grf_s.column(&name).ok_or(TrialError::MissingColumn {
                     file: gname.clone(),
-                    column: name,
+                    column: name.clone(),
                 })?);
+                names.push(name);
             }
         }
+        check_finite(gname, &grf_time, &names, &cols)?;
         let grf = (0..grf_time.len())
             .map(|s| std::array::from_fn(|i| cols[i][s]))
             .collect();
@@ -224,14 +279,19 @@ impl Trial {
             tau_time = ts.time();
             check_window(tname, &tau_time, window)?;
             let mut columns = Vec::with_capacity(gait.nq());
+            let mut found = Vec::with_capacity(gait.nq());
             for c in &gait.coordinates {
                 let names = [format!("{}_moment", c.name), format!("{}_force", c.name)];
-                let col = names.iter().find_map(|n| ts.column(n));
-                columns.push(col.ok_or(TrialError::MissingColumn {
-                    file: tname.clone(),
-                    column: names[0].clone(),
-                })?);
+                let Some((n, col)) = names.iter().find_map(|n| Some((n, ts.column(n)?))) else {
+                    return Err(TrialError::MissingColumn {
+                        file: tname.clone(),
+                        column: names[0].clone(),
+                    });
+                };
+                columns.push(col);
+                found.push(n.clone());
             }
+            check_finite(tname, &tau_time, &found, &columns)?;
             tau = (0..tau_time.len())
                 .map(|s| columns.iter().map(|c| c[s]).collect())
                 .collect();
