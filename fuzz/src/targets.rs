@@ -260,7 +260,12 @@ fn model_settings(data: &[u8]) {
         return;
     }
     for c in &m.contacts {
-        assert!(c.radius > 0.0, "sphere {} accepted with radius {}", c.name, c.radius);
+        assert!(
+            c.radius > 0.0,
+            "sphere {} accepted with radius {}",
+            c.name,
+            c.radius
+        );
         assert!(
             c.parameters.check().is_ok(),
             "sphere {} accepted with {:?}",
@@ -285,7 +290,11 @@ fn geometry(data: &[u8]) {
     for (muscle, p) in m.muscles.iter().zip(&m.path_polynomials) {
         if let Some(p) = p {
             let l = stride_geometry::polynomial_length(p, &q);
-            assert!(l.is_finite(), "muscle {} has length {l} at the default pose", muscle.name);
+            assert!(
+                l.is_finite(),
+                "muscle {} has length {l} at the default pose",
+                muscle.name
+            );
         }
     }
 }

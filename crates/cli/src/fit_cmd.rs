@@ -4,12 +4,12 @@ use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
-use stride_model::input_file::read_limited;
-use stride_model::osim::MAX_OSIM_BYTES;
 use stride_geometry::{
     content_hash, fit_ligaments, fit_model, poses_from_motion, random_poses, FitModelOptions,
     FitOptions, FitSettings, GeometryFile,
 };
+use stride_model::input_file::read_limited;
+use stride_model::osim::MAX_OSIM_BYTES;
 
 /// Arguments of `stride model fit`.
 #[derive(Args)]

@@ -71,7 +71,8 @@ fn write_page(
 /// `model` (an `.osim` or a shipped model's name), else the built-in model.
 fn view_model(folder: &Path, model: Option<&Path>) -> anyhow::Result<Model> {
     let load = |p: &Path| {
-        crate::model_load::load_for_view(p).with_context(|| format!("loading model {}", p.display()))
+        crate::model_load::load_for_view(p)
+            .with_context(|| format!("loading model {}", p.display()))
     };
     if let Some(p) = model {
         return load(p);

@@ -40,23 +40,37 @@ fn job_script_values_cannot_add_shell_lines() {
         &with("--sbatch-arg=--account=x\nrm -rf ~/data"),
         "control character '\\n'",
     );
-    rejects(&with("--partition=a b;c"), "partition `a b;c`: expected a Slurm name");
+    rejects(
+        &with("--partition=a b;c"),
+        "partition `a b;c`: expected a Slurm name",
+    );
     rejects(&with("--sbatch-arg=-A x;y"), "expected a Slurm name");
     rejects(&with("--sbatch-arg=--time=1h"), "time `1h`");
     // the same rules for the study file's [slurm] table, naming the file
     let bad = format!("{TINY_STUDY}\n[slurm]\nextra_args = [\"--account=x\\nrm -rf ~/data\"]\n");
     std::fs::write(&study, bad).unwrap();
     rejects(&dry, "tiny.toml: [slurm].extra_args");
-    std::fs::write(&study, format!("{TINY_STUDY}\n[slurm]\npartition = \"a\\nb\"\n")).unwrap();
+    std::fs::write(
+        &study,
+        format!("{TINY_STUDY}\n[slurm]\npartition = \"a\\nb\"\n"),
+    )
+    .unwrap();
     rejects(&dry, "tiny.toml: [slurm]");
     // good values are written quoted, one #SBATCH line each
     std::fs::write(&study, TINY_STUDY).unwrap();
-    let args = [&dry[..], &["--sbatch-arg=--comment=a #b", "--partition=gpu,cpu"]].concat();
+    let args = [
+        &dry[..],
+        &["--sbatch-arg=--comment=a #b", "--partition=gpu,cpu"],
+    ]
+    .concat();
     let r = stride(&args);
     assert!(r.status.success(), "{}", text(&r.stderr));
     let script = text(&r.stdout);
     assert!(script.contains("#SBATCH \"--comment=a #b\"\n"), "{script}");
-    assert!(script.contains("#SBATCH \"--partition=gpu,cpu\"\n"), "{script}");
+    assert!(
+        script.contains("#SBATCH \"--partition=gpu,cpu\"\n"),
+        "{script}"
+    );
     for line in script.lines().filter(|l| l.starts_with("#SBATCH")) {
         assert!(!line.contains("rm -rf"), "{line}");
     }
@@ -67,7 +81,13 @@ fn job_script_values_cannot_add_shell_lines() {
 #[test]
 fn an_endless_settings_file_is_refused_at_the_cap() {
     for args in [
-        &["predict", "--model", "gait1018", "--model-settings", "/dev/zero"][..],
+        &[
+            "predict",
+            "--model",
+            "gait1018",
+            "--model-settings",
+            "/dev/zero",
+        ][..],
         &["track", "--config", "/dev/zero"][..],
     ] {
         rejects(args, "larger than the 16 MB accepted");
@@ -132,7 +152,8 @@ fn model_settings_out_of_range_name_the_file_and_key() {
     ] {
         let osim = gait1018_in(&d, Some(&settings));
         let o = osim.to_str().unwrap();
-        let args = ["predict", "--model", o, "--geometry", geometry.to_str().unwrap()];
+        let g = geometry.to_str().unwrap();
+        let args = ["predict", "--quiet", "--model", o, "--geometry", g];
         rejects(&args, needle);
         rejects(&args, "gait1018.toml");
     }
@@ -141,7 +162,14 @@ fn model_settings_out_of_range_name_the_file_and_key() {
     std::fs::create_dir(d.join("gait1018.toml")).unwrap();
     let osim = gait1018_in(&d, None);
     rejects(
-        &["predict", "--model", osim.to_str().unwrap(), "--geometry", geometry.to_str().unwrap()],
+        &[
+            "predict",
+            "--quiet",
+            "--model",
+            osim.to_str().unwrap(),
+            "--geometry",
+            geometry.to_str().unwrap(),
+        ],
         "gait1018.toml: is a folder, not a file",
     );
     let _ = std::fs::remove_dir_all(&d);
@@ -161,7 +189,10 @@ fn geometry_files_of_another_model_are_refused() {
     edited.push_str("\n<!-- edited -->\n");
     std::fs::write(&osim, edited).unwrap();
     std::fs::write(&g, &shipped).unwrap();
-    rejects(&args, "fitted to a model file with content hash b355f1b731868032871695f92088a919");
+    rejects(
+        &args,
+        "fitted to a model file with content hash b355f1b731868032871695f92088a919",
+    );
     // swapped muscle names (no hash to compare): found from the paths
     let mut v: serde_json::Value = serde_json::from_str(&shipped).unwrap();
     v["model_hash"] = serde_json::Value::Null;
@@ -176,7 +207,11 @@ fn geometry_files_of_another_model_are_refused() {
     rejects(&args, "has muscles the model lacks: nosuch_r");
     // corrupt coefficients
     for bad in ["1e300", "NaN"] {
-        let text = shipped.replacen("\"coefficients\": [", &format!("\"coefficients\": [{bad}, "), 1);
+        let text = shipped.replacen(
+            "\"coefficients\": [",
+            &format!("\"coefficients\": [{bad}, "),
+            1,
+        );
         let mut v: serde_json::Value = match serde_json::from_str(&text) {
             Ok(v) => v,
             Err(_) => {
@@ -230,9 +265,21 @@ fn tracking_windows_and_measured_forces_are_checked_by_name() {
     let d = scratch("track");
     for (window, needle) in [
         ("4,4", "window [4, 4] s: the end must be after the start"),
-        ("4.2,3.5", "window [4.2, 3.5] s: the end must be after the start"),
+        (
+            "4.2,3.5",
+            "window [4.2, 3.5] s: the end must be after the start",
+        ),
     ] {
-        rejects(&["track", "--window", window, "--out", d.join("o").to_str().unwrap()], needle);
+        rejects(
+            &[
+                "track",
+                "--window",
+                window,
+                "--out",
+                d.join("o").to_str().unwrap(),
+            ],
+            needle,
+        );
     }
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -37,7 +37,8 @@ pub fn check_polynomials(model: &Model, source: &str) -> Result<(), GeometryErro
         }
         let l = polynomial_length(p, &q);
         let tol = MIN_LENGTH_MISMATCH_M.max(5.0 * p.rmse_length.unwrap_or(0.0));
-        if !((l - lengths[m]).abs() <= tol) {
+        let diff = (l - lengths[m]).abs();
+        if diff.is_nan() || diff > tol {
             return Err(err(format!(
                 "muscle {name}: polynomial length {l:.4} m at the default pose differs from the path length {:.4} m of model {} by more than {tol} m (fitted to another model, or muscle names swapped?)",
                 lengths[m], model.name

@@ -144,10 +144,11 @@ impl GeometryFile {
     /// Reads a geometry file (at most [`MAX_GEOMETRY_BYTES`]); a file that is not one
     /// (e.g. an `.osim`) is an error that says so.
     pub fn read(path: &Path) -> Result<Self, GeometryError> {
-        let text = read_text_limited(path, MAX_GEOMETRY_BYTES).map_err(|e| GeometryError::File {
-            path: path.display().to_string(),
-            what: format!("cannot read: {e}"),
-        })?;
+        let text =
+            read_text_limited(path, MAX_GEOMETRY_BYTES).map_err(|e| GeometryError::File {
+                path: path.display().to_string(),
+                what: format!("cannot read: {e}"),
+            })?;
         Self::parse(&text, &path.display().to_string())
     }
 
@@ -215,7 +216,9 @@ impl GeometryFile {
                 p.coordinates.len()
             ));
         }
-        if let Some(c) = (p.coefficients.iter()).find(|c| !(c.abs() <= MAX_COEFFICIENT)) {
+        if let Some(c) =
+            (p.coefficients.iter()).find(|c| !c.is_finite() || c.abs() > MAX_COEFFICIENT)
+        {
             return Err(format!(
                 "coefficient {c:?} is not finite or larger than {MAX_COEFFICIENT} in magnitude"
             ));

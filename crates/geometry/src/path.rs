@@ -356,7 +356,11 @@ impl PathGeometry {
     /// Whether the length of muscle `m` can depend on coordinate `c` (see
     /// [`MusclePaths::depends_on`]; `false`: its moment arm about `c` is exactly zero).
     pub fn depends(&self, m: usize, c: CoordId) -> bool {
-        self.depends.get(c).and_then(|d| d.get(m)).copied().unwrap_or(false)
+        self.depends
+            .get(c)
+            .and_then(|d| d.get(m))
+            .copied()
+            .unwrap_or(false)
     }
 
     /// Lengths [m] of all muscles at `q` (model coordinate order) into `out`.

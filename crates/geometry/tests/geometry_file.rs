@@ -89,18 +89,40 @@ fn a_file_that_does_not_fit_the_model_is_refused_naming_the_muscle() {
     let mut m = model.clone();
     let file = GeometryFile::parse(&shipped.to_string(), "g.json").unwrap();
     file.apply(&mut m).unwrap();
-    file.check_model_hash(stride_model::shipped::shipped("gait1018").unwrap().osim.as_bytes(), "g.json", "m.osim")
-        .unwrap();
-    let e = file.check_model_hash(b"other", "g.json", "m.osim").unwrap_err().to_string();
-    assert!(e.starts_with("g.json: fitted to a model file with content hash b355f1b7"), "{e}");
+    file.check_model_hash(
+        stride_model::shipped::shipped("gait1018")
+            .unwrap()
+            .osim
+            .as_bytes(),
+        "g.json",
+        "m.osim",
+    )
+    .unwrap();
+    let e = file
+        .check_model_hash(b"other", "g.json", "m.osim")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("g.json: fitted to a model file with content hash b355f1b7"),
+        "{e}"
+    );
     let names: Vec<String> = file.muscles.clone();
     // a right muscle swapped with its left twin: its polynomial spans the other leg
-    let twin = names.iter().position(|n| *n == names[0].replace("_r", "_l")).unwrap();
+    let twin = names
+        .iter()
+        .position(|n| *n == names[0].replace("_r", "_l"))
+        .unwrap();
     let mut v = shipped.clone();
     v["muscles"][0] = names[twin].clone().into();
     v["muscles"][twin] = names[0].clone().into();
     let e = apply_err(&model, &v);
-    assert!(e.contains(&format!("muscle {}: its polynomial spans coordinate", names[0])), "{e}");
+    assert!(
+        e.contains(&format!(
+            "muscle {}: its polynomial spans coordinate",
+            names[0]
+        )),
+        "{e}"
+    );
     // two muscles of the same leg swapped: the lengths differ at the default pose
     let mut v = shipped.clone();
     let other = (1..twin)
@@ -122,7 +144,10 @@ fn a_file_that_does_not_fit_the_model_is_refused_naming_the_muscle() {
     v["muscles"][other] = names[0].clone().into();
     let e = apply_err(&model, &v);
     assert!(e.contains("muscle "), "{e}");
-    assert!(e.contains("at the default pose") || e.contains("spans coordinate"), "{e}");
+    assert!(
+        e.contains("at the default pose") || e.contains("spans coordinate"),
+        "{e}"
+    );
     // a name twice, a name the model lacks
     let mut v = shipped.clone();
     v["muscles"][1] = names[0].clone().into();
@@ -133,9 +158,15 @@ fn a_file_that_does_not_fit_the_model_is_refused_naming_the_muscle() {
     let mut v = shipped.clone();
     v["path_polynomials"][0]["coefficients"][0] = 1e300.into();
     let e = apply_err(&model, &v);
-    assert!(e.contains("coefficient 1e300 is not finite or larger than 1000"), "{e}");
+    assert!(
+        e.contains("coefficient 1e300 is not finite or larger than 1000"),
+        "{e}"
+    );
     let mut v = shipped.clone();
-    v["path_polynomials"][0]["coefficients"].as_array_mut().unwrap().pop();
+    v["path_polynomials"][0]["coefficients"]
+        .as_array_mut()
+        .unwrap()
+        .pop();
     assert!(apply_err(&model, &v).contains("exponent tuples but"));
     let mut v = shipped;
     v["path_polynomials"].as_array_mut().unwrap().pop();

@@ -43,7 +43,12 @@ impl ContactParameters {
             }
         };
         let s = self.stiffness;
-        finite("stiffness", s, s > 0.0 && s <= MAX_CONTACT_STIFFNESS, "in (0, 1e13] N/m²")?;
+        finite(
+            "stiffness",
+            s,
+            s > 0.0 && s <= MAX_CONTACT_STIFFNESS,
+            "in (0, 1e13] N/m²",
+        )?;
         let d = self.dissipation;
         finite("dissipation", d, d >= 0.0, "finite and ≥ 0 s/m")?;
         let (mu_s, mu_d) = (self.static_friction, self.dynamic_friction);
@@ -66,9 +71,19 @@ impl ContactParameters {
         let bd = self.hertz_smoothing;
         finite("hertz_smoothing", bd, bd > 0.0, "finite and > 0 1/m")?;
         let bv = self.hunt_crossley_smoothing;
-        finite("hunt_crossley_smoothing", bv, bv > 0.0, "finite and > 0 s/m")?;
+        finite(
+            "hunt_crossley_smoothing",
+            bv,
+            bv > 0.0,
+            "finite and > 0 s/m",
+        )?;
         let e = self.friction_transition_smoothing;
-        finite("friction_transition_smoothing", e, (0.0..1.0).contains(&e), "in [0, 1)")
+        finite(
+            "friction_transition_smoothing",
+            e,
+            (0.0..1.0).contains(&e),
+            "in [0, 1)",
+        )
     }
 }
 
@@ -98,9 +113,13 @@ mod tests {
             ("dynamic_friction", |p| p.dynamic_friction = 0.9),
             ("viscous_friction", |p| p.viscous_friction = -0.1),
             ("transition_velocity", |p| p.transition_velocity = 0.0),
-            ("constant_contact_force", |p| p.constant_contact_force = f64::INFINITY),
+            ("constant_contact_force", |p| {
+                p.constant_contact_force = f64::INFINITY
+            }),
             ("hertz_smoothing", |p| p.hertz_smoothing = 0.0),
-            ("friction_transition_smoothing", |p| p.friction_transition_smoothing = 1.0),
+            ("friction_transition_smoothing", |p| {
+                p.friction_transition_smoothing = 1.0
+            }),
         ];
         for (key, set) in bad {
             let mut p = d;

@@ -64,7 +64,10 @@ mod tests {
     #[test]
     fn devices_folders_and_large_files_are_refused_before_reading_them_whole() {
         let e = read_limited(Path::new("/dev/zero"), 1 << 20).unwrap_err();
-        assert!(e.to_string().contains("larger than the 1 MB accepted"), "{e}");
+        assert!(
+            e.to_string().contains("larger than the 1 MB accepted"),
+            "{e}"
+        );
         let dir = std::env::temp_dir();
         let e = read_limited(&dir, 1 << 20).unwrap_err();
         assert_eq!(e.to_string(), "is a folder, not a file");
@@ -73,7 +76,11 @@ mod tests {
         assert_eq!(read_limited(&f, 4).unwrap(), b"abc\xff");
         assert!(read_limited(&f, 3).is_err());
         let e = read_text_limited(&f, 4).unwrap_err();
-        assert!(e.to_string().contains("not UTF-8 text (invalid byte at offset 3)"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("not UTF-8 text (invalid byte at offset 3)"),
+            "{e}"
+        );
         std::fs::remove_file(&f).unwrap();
     }
 }

@@ -70,10 +70,13 @@ struct Doc {
 
 impl Doc {
     fn read(path: &Path) -> Result<Doc, ReferenceError> {
-        let text = crate::input_file::read_text_limited(path, MAX_REFERENCE_BYTES).map_err(|source| ReferenceError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text =
+            crate::input_file::read_text_limited(path, MAX_REFERENCE_BYTES).map_err(|source| {
+                ReferenceError::Io {
+                    path: path.to_path_buf(),
+                    source,
+                }
+            })?;
         let root = serde_json::from_str(&text).map_err(|source| ReferenceError::Json {
             path: path.to_path_buf(),
             source,

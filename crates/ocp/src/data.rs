@@ -91,9 +91,11 @@ pub enum DataError {
 }
 
 fn read(path: &Path) -> Result<String, DataError> {
-    stride_model::input_file::read_text_limited(path, MAX_STORAGE_BYTES).map_err(|e| DataError::Read {
-        path: path.display().to_string(),
-        reason: e.to_string(),
+    stride_model::input_file::read_text_limited(path, MAX_STORAGE_BYTES).map_err(|e| {
+        DataError::Read {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        }
     })
 }
 

@@ -105,7 +105,11 @@ pub fn run(
     };
     let program = std::env::current_exe().context("locating the stride program")?;
     let (file, out) = (absolute(args.file)?, absolute(out)?);
-    for (what, p) in [("stride program", &program), ("study file", &file), ("output folder", &out)] {
+    for (what, p) in [
+        ("stride program", &program),
+        ("study file", &file),
+        ("output folder", &out),
+    ] {
         words::check_no_control(what, &p.display().to_string())?;
     }
     let job = Job {

@@ -21,8 +21,11 @@ pub fn check_no_control(what: &str, value: &str) -> anyhow::Result<()> {
 /// `_`, `-` and `.`, or a comma-separated list of them when `list`.
 pub fn check_name(what: &str, value: &str, list: bool) -> anyhow::Result<()> {
     check_no_control(what, value)?;
-    let ok_name =
-        |n: &str| !n.is_empty() && n.chars().all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c));
+    let ok_name = |n: &str| {
+        !n.is_empty()
+            && n.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c))
+    };
     let ok = if list {
         value.split(',').all(ok_name)
     } else {
@@ -31,7 +34,11 @@ pub fn check_name(what: &str, value: &str, list: bool) -> anyhow::Result<()> {
     if !ok {
         bail!(
             "{what} `{value}`: expected a Slurm name (letters, digits, `_`, `-`, `.`{})",
-            if list { "; several separated by `,`" } else { "" }
+            if list {
+                "; several separated by `,`"
+            } else {
+                ""
+            }
         );
     }
     Ok(())
@@ -112,12 +119,25 @@ mod tests {
     #[test]
     fn control_characters_and_bad_names_are_refused() {
         let e = check_sbatch_arg("--account=x\nrm -rf ~/data").unwrap_err();
-        assert!(format!("{e:#}").contains("control character '\\n'"), "{e:#}");
+        assert!(
+            format!("{e:#}").contains("control character '\\n'"),
+            "{e:#}"
+        );
         let e = check_name("partition", "a b;c", true).unwrap_err();
-        assert!(e.to_string().starts_with("partition `a b;c`: expected a Slurm name"), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("partition `a b;c`: expected a Slurm name"),
+            "{e}"
+        );
         check_name("partition", "gpu,cpu-long", true).unwrap();
         assert!(check_name("account", "a,b", false).is_err());
-        for ok in ["--account=gait", "-Agait", "--comment=two words", "--exclusive", "--mem=4G"] {
+        for ok in [
+            "--account=gait",
+            "-Agait",
+            "--comment=two words",
+            "--exclusive",
+            "--mem=4G",
+        ] {
             check_sbatch_arg(ok).unwrap_or_else(|e| panic!("{ok}: {e:#}"));
         }
         for (bad, needle) in [
@@ -137,6 +157,9 @@ mod tests {
 
     #[test]
     fn words_are_quoted_for_sbatch() {
-        assert_eq!(sbatch_word("--comment=a \"b\" #c\\"), r#""--comment=a \"b\" #c\\""#);
+        assert_eq!(
+            sbatch_word("--comment=a \"b\" #c\\"),
+            r#""--comment=a \"b\" #c\\""#
+        );
     }
 }

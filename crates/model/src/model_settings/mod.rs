@@ -931,7 +931,12 @@ damping = 2.0
         let e = ModelSettings::read(&beside).unwrap_err().to_string();
         assert!(e.ends_with("m.toml: is a folder, not a file"), "{e}");
         std::fs::remove_dir_all(&d).unwrap();
-        let e = ModelSettings::read(Path::new("/dev/zero")).unwrap_err().to_string();
-        assert_eq!(e, "/dev/zero: file of 16.0 MB is larger than the 16 MB accepted");
+        let e = ModelSettings::read(Path::new("/dev/zero"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "/dev/zero: file of 16.0 MB is larger than the 16 MB accepted"
+        );
     }
 }

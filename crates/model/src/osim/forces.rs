@@ -119,7 +119,8 @@ fn actuator(ctx: &Ctx, f: El, model: &Model) -> Result<CoordinateActuator, OsimE
         ctx.opt_f64(f, "min_control", f64::NEG_INFINITY)?,
         ctx.opt_f64(f, "max_control", f64::INFINITY)?,
     ];
-    if !(control_range[0] <= control_range[1]) {
+    let [lo, hi] = control_range;
+    if lo.is_nan() || hi.is_nan() || lo > hi {
         let at = child(f, "max_control").unwrap_or(f);
         return Err(ctx.err(
             at,

@@ -376,8 +376,16 @@ fn path_point_on_a_missing_body_is_an_error() {
 fn contact_values_out_of_range_name_the_element_and_line() {
     let shipped = crate::shipped::shipped("gait1018").unwrap();
     for (from, to, needle) in [
-        ("<stiffness>3067776</stiffness>", "<stiffness>-5</stiffness>", "stiffness -5.0 is out of range"),
-        ("<dissipation>2</dissipation>", "<dissipation>nan</dissipation>", "dissipation NaN is out of range"),
+        (
+            "<stiffness>3067776</stiffness>",
+            "<stiffness>-5</stiffness>",
+            "stiffness -5.0 is out of range",
+        ),
+        (
+            "<dissipation>2</dissipation>",
+            "<dissipation>nan</dissipation>",
+            "dissipation NaN is out of range",
+        ),
         (
             "<transition_velocity>0.20000000000000001</transition_velocity>",
             "<transition_velocity>0</transition_velocity>",
