@@ -105,7 +105,8 @@ mod tests {
     fn the_default_law_passes_and_each_bad_value_is_named() {
         let d = ContactParameters::default();
         assert_eq!(d.check(), Ok(()));
-        let bad: [(&str, fn(&mut ContactParameters)); 10] = [
+        type Edit = fn(&mut ContactParameters);
+        let bad: [(&str, Edit); 10] = [
             ("stiffness", |p| p.stiffness = -1e6),
             ("stiffness", |p| p.stiffness = 1e300),
             ("dissipation", |p| p.dissipation = f64::NAN),
