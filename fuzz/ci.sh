@@ -20,12 +20,15 @@ fi
 ref=../shared/reference
 # Files in a target's crash folder (0 when it does not exist yet).
 count_crashes() { if [ -d "fuzz/crashes/$1" ]; then ls "fuzz/crashes/$1" | wc -l; else echo 0; fi; }
-for t in osim storage study; do
+models=crates/model/data/models
+for t in osim storage study model_settings geometry; do
     seeds=()
     case $t in
     osim) [ -d $ref/models ] && seeds=(--seeds $ref/models) ;;
     storage) [ -d $ref/experimental ] && seeds=(--seeds $ref/experimental) ;;
     study) seeds=(--seeds studies) ;;
+    model_settings) for f in $models/*/*.toml; do seeds+=(--seeds "$f"); done ;;
+    geometry) for f in $models/*/*.geometry.json; do seeds+=(--seeds "$f"); done ;;
     esac
     before=$(count_crashes $t)
     $bin run $t --seconds "$seconds" --seed "$RANDOM" "${seeds[@]}"

@@ -6,6 +6,7 @@ rustc="$1"
 shift
 case " $* " in
 *" --crate-name stride_model "* | *" --crate-name stride_study "* | *" --crate-name roxmltree "* | \
+    *" --crate-name stride_geometry "* | *" --crate-name serde_json "* | \
     *" --crate-name toml "* | *" --crate-name toml_edit "* | *" --crate-name winnow "* | \
     *" --crate-name toml_datetime "* | *" --crate-name serde_spanned "*)
     exec "$rustc" "$@" -Cpasses=sancov-module \

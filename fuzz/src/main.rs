@@ -31,9 +31,12 @@ fn parse_args() -> Result<Args, String> {
     let mode = it
         .next()
         .ok_or("usage: stride-fuzz run|check <target> ...")?;
-    let name = it.next().ok_or("missing target (osim, storage, study)")?;
-    let target = Target::from_name(&name)
-        .ok_or(format!("unknown target `{name}` (osim, storage, study)"))?;
+    let name = it
+        .next()
+        .ok_or("missing target (osim, storage, study, model_settings, geometry)")?;
+    let target = Target::from_name(&name).ok_or(format!(
+        "unknown target `{name}` (osim, storage, study, model_settings, geometry)"
+    ))?;
     let mut a = Args {
         mode,
         target,

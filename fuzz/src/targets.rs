@@ -2,7 +2,11 @@
 //! a property the reader promises is broken (a reader's error is a normal outcome).
 
 use std::path::Path;
+use std::sync::OnceLock;
+use stride_geometry::GeometryFile;
+use stride_model::model_settings::ModelSettings;
 use stride_model::storage::Storage;
+use stride_model::Model;
 
 /// A fuzzed reader.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,13 +17,24 @@ pub enum Target {
     Storage,
     /// The study file parser (`stride_study::spec`), expansion and validation included.
     Study,
+    /// The model settings reader (`<model>.toml`), applied to the built-in model.
+    ModelSettings,
+    /// The fitted muscle-geometry reader (`stride model fit` output), applied to the
+    /// shipped gait1018 model.
+    Geometry,
 }
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 3] = [Target::Osim, Target::Storage, Target::Study];
+    pub const ALL: [Target; 5] = [
+        Target::Osim,
+        Target::Storage,
+        Target::Study,
+        Target::ModelSettings,
+        Target::Geometry,
+    ];
 
-    /// The target named `name` (`osim`, `storage`, `study`).
+    /// The target named `name` (`osim`, `storage`, `study`, `model_settings`, `geometry`).
     pub fn from_name(name: &str) -> Option<Target> {
         Self::ALL.into_iter().find(|t| t.name() == name)
     }
@@ -30,6 +45,8 @@ impl Target {
             Target::Osim => "osim",
             Target::Storage => "storage",
             Target::Study => "study",
+            Target::ModelSettings => "model_settings",
+            Target::Geometry => "geometry",
         }
     }
 
@@ -123,6 +140,79 @@ impl Target {
                 "1.33",
                 "18446744073709551615",
             ],
+            Target::ModelSettings => &[
+                "[contact]",
+                "[contact.parameters]",
+                "[[contact.spheres]]",
+                "[[passive_torques.table]]",
+                "[[actuators]]",
+                "[metabolic]",
+                "[metabolic.muscles]",
+                "[[distances]]",
+                "[[coordinate_springs]]",
+                "[[muscle_parameters]]",
+                "[problem]",
+                "=",
+                "\"",
+                "[",
+                "]",
+                "{",
+                "}",
+                ",",
+                "\n",
+                "nan",
+                "inf",
+                "-inf",
+                "-5",
+                "0",
+                "1e300",
+                "gravity",
+                "geometry",
+                "stiffness",
+                "dissipation",
+                "static_friction",
+                "dynamic_friction",
+                "transition_velocity",
+                "radius",
+                "name",
+                "body",
+                "location",
+                "coordinate",
+                "coordinates",
+                "control_range",
+                "optimal_force",
+                "match",
+                "calcn_r",
+                "knee_angle_r",
+                "soleus_r",
+            ],
+            Target::Geometry => &[
+                "{",
+                "}",
+                "[",
+                "]",
+                ",",
+                ":",
+                "\"",
+                "null",
+                "true",
+                "1e300",
+                "-1",
+                "0",
+                "NaN",
+                "\"format\": \"stride-muscle-geometry-1\"",
+                "\"model_hash\"",
+                "\"muscles\"",
+                "\"coordinates\"",
+                "\"path_polynomials\"",
+                "\"exponents\"",
+                "\"coefficients\"",
+                "\"order\"",
+                "\"accuracy\"",
+                "\"ligaments\"",
+                "\"hip_flexion_r\"",
+                "\"soleus_r\"",
+            ],
         }
     }
 
@@ -137,6 +227,74 @@ impl Target {
                 let text = String::from_utf8_lossy(data);
                 let _ = stride_study::spec::parse(&text, Path::new("fuzz.toml"));
             }
+            Target::ModelSettings => model_settings(data),
+            Target::Geometry => geometry(data),
+        }
+    }
+}
+
+/// The built-in model, imported once.
+fn built_in() -> &'static Model {
+    static MODEL: OnceLock<Model> = OnceLock::new();
+    MODEL.get_or_init(stride_model::default_model::default_model)
+}
+
+/// The shipped gait1018 model without its geometry, imported once.
+fn gait1018() -> &'static Model {
+    static MODEL: OnceLock<Model> = OnceLock::new();
+    MODEL.get_or_init(|| {
+        let s = stride_model::shipped::shipped("gait1018").expect("gait1018 is shipped");
+        stride_model::osim::parse_osim(s.osim, s.file_name).expect("gait1018 imports")
+    })
+}
+
+/// Settings text is parsed and applied to the built-in model; settings that apply leave
+/// every contact sphere with a positive radius and a checked contact law.
+fn model_settings(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let Ok(s) = ModelSettings::parse(&text, "fuzz.toml") else {
+        return;
+    };
+    let mut m = built_in().clone();
+    if s.apply(&mut m, "fuzz.toml").is_err() {
+        return;
+    }
+    for c in &m.contacts {
+        assert!(
+            c.radius > 0.0,
+            "sphere {} accepted with radius {}",
+            c.name,
+            c.radius
+        );
+        assert!(
+            c.parameters.check().is_ok(),
+            "sphere {} accepted with {:?}",
+            c.name,
+            c.parameters
+        );
+    }
+}
+
+/// A geometry file is parsed and applied to gait1018; a file that applies gives every
+/// muscle a finite length at the default pose.
+fn geometry(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let Ok(file) = GeometryFile::parse(&text, "fuzz.json") else {
+        return;
+    };
+    let mut m = gait1018().clone();
+    if file.apply(&mut m).is_err() {
+        return;
+    }
+    let q: Vec<f64> = m.coordinates.iter().map(|c| c.default_value).collect();
+    for (muscle, p) in m.muscles.iter().zip(&m.path_polynomials) {
+        if let Some(p) = p {
+            let l = stride_geometry::polynomial_length(p, &q);
+            assert!(
+                l.is_finite(),
+                "muscle {} has length {l} at the default pose",
+                muscle.name
+            );
         }
     }
 }

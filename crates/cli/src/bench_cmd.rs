@@ -117,7 +117,7 @@ pub struct PredictArgs {
     /// Iteration limit per solve.
     #[arg(long, default_value_t = 3000)]
     pub max_iter: usize,
-    /// Wall-time limit per solve [s] (default: none).
+    /// Wall-time limit per solve [s] (default: 1800, as `stride predict`).
     #[arg(long)]
     pub time_limit: Option<f64>,
     /// Coarse mesh of the presolve (as `stride predict --presolve-mesh`; default 10 below
@@ -360,7 +360,7 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
     }
     let exe = std::env::current_exe().context("locating the stride executable")?;
     println!(
-        "## Prediction of {} ({} mesh intervals, {}, tol 1e-4, adaptive μ, max {} iterations, {}); \
+        "## Prediction of {} ({} mesh intervals, {}, tol 1e-4, adaptive μ, max {} iterations, {} s limit); \
          one child process per case, one thread (evaluations and linear algebra)\n",
         match (&a.model, &a.config) {
             (Some(m), _) => m.display().to_string(),
@@ -373,8 +373,7 @@ fn predict_grid(a: PredictArgs) -> anyhow::Result<()> {
             p.mesh_intervals
         )),
         a.max_iter,
-        a.time_limit
-            .map_or("no time limit".into(), |t| format!("{t} s limit"))
+        a.time_limit.unwrap_or(predict_cmd::DEFAULT_TIME_LIMIT_S)
     );
     println!(
         "| backend | Hessian | guess | presolve iterations / s | status | iterations | objective | process s | solve s | evaluations s | solver s | of which linear s | factorisations s | solves s | peak RSS MiB |"

@@ -8,6 +8,8 @@ use stride_geometry::{
     content_hash, fit_ligaments, fit_model, poses_from_motion, random_poses, FitModelOptions,
     FitOptions, FitSettings, GeometryFile,
 };
+use stride_model::input_file::read_limited;
+use stride_model::osim::MAX_OSIM_BYTES;
 
 /// Arguments of `stride model fit`.
 #[derive(Args)]
@@ -41,7 +43,7 @@ pub struct FitArgs {
 
 /// Run `stride model fit`.
 pub fn run(args: FitArgs) -> anyhow::Result<()> {
-    let bytes = std::fs::read(&args.file)
+    let bytes = read_limited(&args.file, MAX_OSIM_BYTES)
         .with_context(|| format!("reading model {}", args.file.display()))?;
     let model = stride_model::osim::parse_osim(
         &String::from_utf8_lossy(&bytes),

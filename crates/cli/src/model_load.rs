@@ -7,7 +7,9 @@
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 use stride_geometry::{cached_geometry, FitSettings, GeometryFile, GeometrySource};
+use stride_model::input_file::read_limited;
 use stride_model::model_settings::ModelSettings;
+use stride_model::osim::MAX_OSIM_BYTES;
 use stride_model::shipped::{shipped, ShippedModel, SHIPPED};
 use stride_model::Model;
 
@@ -64,7 +66,7 @@ pub(crate) fn load_model_with_settings(
         }
         let mut m = stride_model::default_model::default_model();
         if let Some(g) = geometry {
-            GeometryFile::read(g)?.apply(&mut m)?;
+            read_geometry(g, subject1.osim.as_bytes(), "the built-in model")?.apply(&mut m)?;
         }
         let name = format!(
             "{} (shipped settings of {})",
@@ -100,6 +102,19 @@ pub(crate) fn load_model_with_settings(
     load_file(path, settings, geometry, quiet)
 }
 
+/// The skeleton and contact spheres of `model` for drawing, without fitting muscle
+/// geometry: a shipped model's name (when no file of that name exists) with its shipped
+/// settings, else the `.osim` file as it is.
+pub(crate) fn load_for_view(model: &Path) -> anyhow::Result<Model> {
+    if let Some(s) = as_name(model).filter(|_| !model.exists()).and_then(shipped) {
+        let mut m = stride_model::osim::parse_osim(s.osim, s.file_name)?;
+        let name = format!("{} (shipped settings of {})", s.file_name, s.name);
+        ModelSettings::parse(s.settings, &name)?.apply(&mut m, &name)?;
+        return Ok(m);
+    }
+    Ok(stride_model::osim::load_osim(model)?)
+}
+
 /// `path` as a bare model name (one component, no extension), if it is one.
 fn as_name(path: &Path) -> Option<&str> {
     let s = path.to_str()?;
@@ -129,7 +144,7 @@ fn load_shipped(
         }
     };
     let file = match &geometry {
-        Some(g) => GeometryFile::read(g)?,
+        Some(g) => read_geometry(g, s.osim.as_bytes(), s.name)?,
         None => GeometryFile::parse(s.geometry, &format!("geometry of {}", s.name))?,
     };
     file.apply(&mut m)?;
@@ -148,7 +163,8 @@ fn load_file(
     geometry: Option<&Path>,
     quiet: bool,
 ) -> anyhow::Result<(Model, UsedSettings)> {
-    let bytes = std::fs::read(path).with_context(|| format!("reading model {}", path.display()))?;
+    let bytes = read_limited(path, MAX_OSIM_BYTES)
+        .with_context(|| format!("reading model {}", path.display()))?;
     let text = String::from_utf8_lossy(&bytes);
     let mut m = stride_model::osim::parse_osim(&text, &path.display().to_string())?;
     m.source_file = Some(path.to_path_buf());
@@ -170,7 +186,7 @@ fn load_file(
         .map(Path::to_path_buf)
         .or(model_settings.geometry.clone());
     let file = match &geometry {
-        Some(g) => GeometryFile::read(g)?,
+        Some(g) => read_geometry(g, &bytes, &path.display().to_string())?,
         None => cached_fit(&m, path, &bytes, quiet)?,
     };
     file.apply(&mut m)?;
@@ -180,6 +196,14 @@ fn load_file(
         geometry,
     };
     Ok((m, used))
+}
+
+/// The geometry file `path`, refused when it records the content hash of a model file
+/// other than `model_bytes` (the model `model`).
+fn read_geometry(path: &Path, model_bytes: &[u8], model: &str) -> anyhow::Result<GeometryFile> {
+    let file = GeometryFile::read(path)?;
+    file.check_model_hash(model_bytes, &path.display().to_string(), model)?;
+    Ok(file)
 }
 
 /// The cached fit of the model file `path` (content `bytes`), fitted on first use.

@@ -55,7 +55,8 @@ pub struct PredictArgs {
     /// Iteration limit per solve [default: 3000].
     #[arg(long)]
     pub max_iter: Option<usize>,
-    /// Wall-time limit per guess [s] [default: none].
+    /// Wall-time limit per solve (one guess, coarse and fine stage together) [s]
+    /// [default: 1800].
     #[arg(long, value_name = "SECONDS")]
     pub time_limit: Option<f64>,
     /// Centrality correctors per iteration (ipm only; default 2 with the hybrid Hessian,

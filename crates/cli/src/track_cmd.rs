@@ -10,6 +10,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Duration;
+use stride_model::input_file::{read_text_limited, MAX_SETTINGS_BYTES};
 use stride_ocp::tracking::{calibration, TrackSettings, TrackingProblem};
 use stride_predict::predict::MeshStage;
 use stride_predict::track::{solve_tracking, track_presolve_for, TrackSolved};
@@ -200,7 +201,7 @@ fn calibrated_model_file(
 pub fn run(args: TrackArgs) -> anyhow::Result<()> {
     let file: TrackFile = match &args.config {
         Some(p) => {
-            let text = std::fs::read_to_string(p)
+            let text = read_text_limited(p, MAX_SETTINGS_BYTES)
                 .with_context(|| format!("reading settings file {}", p.display()))?;
             toml::from_str(&text).with_context(|| format!("settings file {}", p.display()))?
         }

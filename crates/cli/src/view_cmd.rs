@@ -15,8 +15,9 @@ pub const VIEW_FILE: &str = "view.html";
 pub struct ViewArgs {
     /// Result folder (`stride predict`, a study case) or study output folder (`stride study`).
     pub folder: PathBuf,
-    /// OpenSim model the folder was predicted with (default: the folder's `.osim` when it
-    /// has one, else the study file's model, else the built-in model).
+    /// OpenSim model (or shipped model's name) the folder was predicted with (default: the
+    /// folder's `.osim` when it has one, else the study file's model, else the built-in
+    /// model).
     #[arg(long)]
     pub model: Option<PathBuf>,
     /// Page to write (default: `<folder>/view.html`, replaced when it exists).
@@ -78,10 +79,11 @@ fn write_page(
 }
 
 /// The model of a folder: `--model`, else its `.osim`, else (study folder) the study file's
-/// `model`, else the built-in model.
+/// `model` (an `.osim` or a shipped model's name), else the built-in model.
 fn view_model(folder: &Path, model: Option<&Path>) -> anyhow::Result<Model> {
     let load = |p: &Path| {
-        stride_model::osim::load_osim(p).with_context(|| format!("loading model {}", p.display()))
+        crate::model_load::load_for_view(p)
+            .with_context(|| format!("loading model {}", p.display()))
     };
     if let Some(p) = model {
         return load(p);

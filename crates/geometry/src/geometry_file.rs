@@ -4,14 +4,23 @@
 //! and ligament and the content hash of the model file it was fitted to.
 
 use crate::error::GeometryError;
+use crate::geometry_check::check_polynomials;
 use crate::model_fit::{fit_ligaments, fit_model, FitModelOptions, FitReport};
 use crate::samples::random_poses;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+use stride_model::input_file::read_text_limited;
 use stride_model::{Model, PathPolynomial};
 
 /// Format tag of the file (first key), so that other JSON files are rejected clearly.
 pub const FORMAT: &str = "stride-muscle-geometry-1";
+
+/// Largest geometry file read [bytes] (a fit of a hundred muscles is about 0.5 MB).
+pub const MAX_GEOMETRY_BYTES: u64 = 64 << 20;
+
+/// Largest polynomial coefficient accepted [m per rad^k]: fitted lengths are below a
+/// metre and their coefficients below one; this bound refuses only corrupt values.
+pub const MAX_COEFFICIENT: f64 = 1.0e3;
 
 /// How the fitting poses were made.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -132,13 +141,14 @@ impl GeometryFile {
         self
     }
 
-    /// Reads a geometry file; a file that is not one (e.g. an `.osim`) is an error that
-    /// says so.
+    /// Reads a geometry file (at most [`MAX_GEOMETRY_BYTES`]); a file that is not one
+    /// (e.g. an `.osim`) is an error that says so.
     pub fn read(path: &Path) -> Result<Self, GeometryError> {
-        let text = std::fs::read_to_string(path).map_err(|e| GeometryError::File {
-            path: path.display().to_string(),
-            what: format!("cannot read: {e}"),
-        })?;
+        let text =
+            read_text_limited(path, MAX_GEOMETRY_BYTES).map_err(|e| GeometryError::File {
+                path: path.display().to_string(),
+                what: format!("cannot read: {e}"),
+            })?;
         Self::parse(&text, &path.display().to_string())
     }
 
@@ -158,7 +168,82 @@ impl GeometryFile {
                 "not a stride muscle-geometry file: `format` is not \"{FORMAT}\""
             )));
         }
-        serde_json::from_value(value).map_err(|e| err(e.to_string()))
+        let file: Self = serde_json::from_value(value).map_err(|e| err(e.to_string()))?;
+        file.check_shape().map_err(err)?;
+        Ok(file)
+    }
+
+    /// The file is consistent in itself: one polynomial per muscle and ligament, exponent
+    /// tuples as long as the coordinate lists, coordinate indices in range, coefficients
+    /// finite and at most [`MAX_COEFFICIENT`].
+    fn check_shape(&self) -> Result<(), String> {
+        let lists = [
+            ("muscles", &self.muscles, &self.path_polynomials),
+            ("ligaments", &self.ligaments, &self.ligament_polynomials),
+        ];
+        for (kind, names, polys) in lists {
+            if names.len() != polys.len() {
+                return Err(format!(
+                    "{} {kind} but {} polynomials",
+                    names.len(),
+                    polys.len()
+                ));
+            }
+            for (name, p) in names.iter().zip(polys) {
+                if let Some(p) = p {
+                    self.check_polynomial(p)
+                        .map_err(|e| format!("{kind} {name}: {e}"))?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_polynomial(&self, p: &PathPolynomial) -> Result<(), String> {
+        if let Some(c) = p.coordinates.iter().find(|&&c| c >= self.coordinates.len()) {
+            return Err(format!("coordinate index {c} out of range"));
+        }
+        if p.exponents.len() != p.coefficients.len() {
+            return Err(format!(
+                "{} exponent tuples but {} coefficients",
+                p.exponents.len(),
+                p.coefficients.len()
+            ));
+        }
+        if p.exponents.iter().any(|e| e.len() != p.coordinates.len()) {
+            return Err(format!(
+                "an exponent tuple is not {} long (one per coordinate)",
+                p.coordinates.len()
+            ));
+        }
+        if let Some(c) =
+            (p.coefficients.iter()).find(|c| !c.is_finite() || c.abs() > MAX_COEFFICIENT)
+        {
+            return Err(format!(
+                "coefficient {c:?} is not finite or larger than {MAX_COEFFICIENT} in magnitude"
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses the file when it records the content hash of a model file other than
+    /// `model_bytes` (the model file `model_path` it is used with).
+    pub fn check_model_hash(
+        &self,
+        model_bytes: &[u8],
+        source: &str,
+        model_path: &str,
+    ) -> Result<(), GeometryError> {
+        let hash = content_hash(model_bytes);
+        match &self.model_hash {
+            Some(h) if *h != hash => Err(GeometryError::File {
+                path: source.to_string(),
+                what: format!(
+                    "fitted to a model file with content hash {h}, but {model_path} has hash {hash} (fit it again with `stride model fit {model_path} --out …`)"
+                ),
+            }),
+            _ => Ok(()),
+        }
     }
 
     /// Writes the file atomically (nothing is left behind on failure).
@@ -177,6 +262,7 @@ impl GeometryFile {
     /// file, matching muscles, ligaments and coordinates by name; every muscle of the
     /// model must be in the file; a ligament missing from it keeps no polynomial.
     pub fn apply(&self, model: &mut Model) -> Result<(), GeometryError> {
+        self.check_muscle_names(model)?;
         let mut polys = Vec::with_capacity(model.muscles.len());
         for m in &model.muscles {
             let k = self
@@ -204,6 +290,32 @@ impl GeometryFile {
         model.path_polynomials = polys;
         for (l, p) in model.ligaments.iter_mut().zip(ligament_polys) {
             l.path_polynomial = p;
+        }
+        check_polynomials(model, &format!("geometry file of model {}", self.model))
+    }
+
+    /// The file's muscles are the model's: no name twice, none the model lacks.
+    fn check_muscle_names(&self, model: &Model) -> Result<(), GeometryError> {
+        let err = |what: String| GeometryError::Model {
+            what: format!(
+                "{}: the geometry file (fitted to model {}) {what}",
+                model.name, self.model
+            ),
+        };
+        for (i, n) in self.muscles.iter().enumerate() {
+            if self.muscles[..i].contains(n) {
+                return Err(err(format!("lists muscle {n} twice")));
+            }
+        }
+        let foreign: Vec<&str> = (self.muscles.iter())
+            .filter(|n| model.muscle_index(n).is_none())
+            .map(String::as_str)
+            .collect();
+        if !foreign.is_empty() {
+            return Err(err(format!(
+                "has muscles the model lacks: {}",
+                foreign.join(", ")
+            )));
         }
         Ok(())
     }

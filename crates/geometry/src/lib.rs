@@ -17,6 +17,7 @@ mod ellipsoid_closest;
 pub mod error;
 pub mod fit;
 pub mod function;
+pub mod geometry_check;
 pub mod geometry_file;
 pub mod kinematics;
 pub mod lsq;

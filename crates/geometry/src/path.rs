@@ -353,6 +353,16 @@ impl PathGeometry {
         })
     }
 
+    /// Whether the length of muscle `m` can depend on coordinate `c` (see
+    /// [`MusclePaths::depends_on`]; `false`: its moment arm about `c` is exactly zero).
+    pub fn depends(&self, m: usize, c: CoordId) -> bool {
+        self.depends
+            .get(c)
+            .and_then(|d| d.get(m))
+            .copied()
+            .unwrap_or(false)
+    }
+
     /// Lengths [m] of all muscles at `q` (model coordinate order) into `out`.
     pub fn lengths(&mut self, q: &[f64], out: &mut [f64]) {
         self.kinematics.forward(q, &mut self.poses);

@@ -3,6 +3,7 @@
 
 use crate::error::GeometryError;
 use std::path::Path;
+use stride_model::storage::MAX_STORAGE_BYTES;
 use stride_model::{Model, MotionType};
 
 /// A set of poses: full model coordinate vectors, row-major `n_samples × n_coords`
@@ -154,7 +155,8 @@ pub fn poses_from_motion(model: &Model, path: &Path) -> Result<PoseSamples, Geom
         path: path.display().to_string(),
         what,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read: {e}")))?;
+    let text = stride_model::input_file::read_text_limited(path, MAX_STORAGE_BYTES)
+        .map_err(|e| err(format!("cannot read: {e}")))?;
     let mut lines = text.lines().enumerate();
     let mut in_degrees = true;
     for (_, line) in lines.by_ref() {

@@ -67,3 +67,108 @@ fn cache_fits_once_per_model_content() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The shipped gait1018 model (without geometry) and its shipped geometry file as JSON.
+fn gait1018() -> (stride_model::Model, serde_json::Value) {
+    let s = stride_model::shipped::shipped("gait1018").unwrap();
+    let model = stride_model::osim::parse_osim(s.osim, s.file_name).unwrap();
+    (model, serde_json::from_str(s.geometry).unwrap())
+}
+
+fn apply_err(model: &stride_model::Model, v: &serde_json::Value) -> String {
+    let mut m = model.clone();
+    match GeometryFile::parse(&v.to_string(), "g.json") {
+        Ok(file) => file.apply(&mut m).unwrap_err().to_string(),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn a_file_that_does_not_fit_the_model_is_refused_naming_the_muscle() {
+    let (model, shipped) = gait1018();
+    let mut m = model.clone();
+    let file = GeometryFile::parse(&shipped.to_string(), "g.json").unwrap();
+    file.apply(&mut m).unwrap();
+    file.check_model_hash(
+        stride_model::shipped::shipped("gait1018")
+            .unwrap()
+            .osim
+            .as_bytes(),
+        "g.json",
+        "m.osim",
+    )
+    .unwrap();
+    let e = file
+        .check_model_hash(b"other", "g.json", "m.osim")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("g.json: fitted to a model file with content hash b355f1b7"),
+        "{e}"
+    );
+    let names: Vec<String> = file.muscles.clone();
+    // a right muscle swapped with its left twin: its polynomial spans the other leg
+    let twin = names
+        .iter()
+        .position(|n| *n == names[0].replace("_r", "_l"))
+        .unwrap();
+    let mut v = shipped.clone();
+    v["muscles"][0] = names[twin].clone().into();
+    v["muscles"][twin] = names[0].clone().into();
+    let e = apply_err(&model, &v);
+    assert!(
+        e.contains(&format!(
+            "muscle {}: its polynomial spans coordinate",
+            names[0]
+        )),
+        "{e}"
+    );
+    // two muscles of the same leg swapped: the lengths differ at the default pose
+    let mut v = shipped.clone();
+    let other = (1..twin)
+        .find(|&k| {
+            let l = |i: usize| {
+                let p: stride_model::PathPolynomial =
+                    serde_json::from_value(shipped["path_polynomials"][i].clone()).unwrap();
+                let q: Vec<f64> = model.coordinates.iter().map(|c| c.default_value).collect();
+                let mut q_file = vec![0.0; file.coordinates.len()];
+                for (i, c) in file.coordinates.iter().enumerate() {
+                    q_file[i] = q[model.coordinate_index(c).unwrap()];
+                }
+                polynomial_length(&p, &q_file)
+            };
+            (l(0) - l(k)).abs() > 0.05
+        })
+        .unwrap();
+    v["muscles"][0] = names[other].clone().into();
+    v["muscles"][other] = names[0].clone().into();
+    let e = apply_err(&model, &v);
+    assert!(e.contains("muscle "), "{e}");
+    assert!(
+        e.contains("at the default pose") || e.contains("spans coordinate"),
+        "{e}"
+    );
+    // a name twice, a name the model lacks
+    let mut v = shipped.clone();
+    v["muscles"][1] = names[0].clone().into();
+    assert!(apply_err(&model, &v).contains(&format!("lists muscle {} twice", names[0])));
+    v["muscles"][1] = "nosuch".into();
+    assert!(apply_err(&model, &v).contains("has muscles the model lacks: nosuch"));
+    // corrupt numbers and shapes are refused when the file is read
+    let mut v = shipped.clone();
+    v["path_polynomials"][0]["coefficients"][0] = 1e300.into();
+    let e = apply_err(&model, &v);
+    assert!(
+        e.contains("coefficient 1e300 is not finite or larger than 1000"),
+        "{e}"
+    );
+    let mut v = shipped.clone();
+    v["path_polynomials"][0]["coefficients"]
+        .as_array_mut()
+        .unwrap()
+        .pop();
+    assert!(apply_err(&model, &v).contains("exponent tuples but"));
+    let mut v = shipped;
+    v["path_polynomials"].as_array_mut().unwrap().pop();
+    assert!(apply_err(&model, &v).contains("18 muscles but 17 polynomials"));
+}

@@ -14,10 +14,12 @@
 //! - [`inspect`]: human-readable tables of a model.
 //! - [`shipped`]: the models shipped with stride, usable by name.
 
+pub mod contact_check;
 pub mod default_model;
 pub mod expression;
 pub mod external_loads;
 pub mod function;
+pub mod input_file;
 pub mod inspect;
 pub mod model;
 pub mod model_settings;

@@ -59,6 +59,9 @@ pub const ARM_COORDINATES: [&str; 8] = [
     "elbow_flex_r",
 ];
 
+/// Largest reference JSON file read [bytes].
+const MAX_REFERENCE_BYTES: u64 = 64 << 20;
+
 /// A JSON document with its file name, for located error messages.
 struct Doc {
     path: PathBuf,
@@ -67,10 +70,13 @@ struct Doc {
 
 impl Doc {
     fn read(path: &Path) -> Result<Doc, ReferenceError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ReferenceError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text =
+            crate::input_file::read_text_limited(path, MAX_REFERENCE_BYTES).map_err(|source| {
+                ReferenceError::Io {
+                    path: path.to_path_buf(),
+                    source,
+                }
+            })?;
         let root = serde_json::from_str(&text).map_err(|source| ReferenceError::Json {
             path: path.to_path_buf(),
             source,

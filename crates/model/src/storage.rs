@@ -279,40 +279,7 @@ impl Storage {
 /// Largest `.mot`/`.sto` file read [bytes].
 pub const MAX_STORAGE_BYTES: u64 = 256 << 20;
 
-/// The bytes of the input file `path`, refusing a file larger than `limit` bytes (or one
-/// that is not a regular file) before reading it.
-pub fn read_limited(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
-    use std::io::Read as _;
-    let file = std::fs::File::open(path)?;
-    let meta = file.metadata()?;
-    if meta.is_dir() {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "is a folder, not a file",
-        ));
-    }
-    if meta.len() > limit {
-        return Err(too_large(meta.len(), limit));
-    }
-    let mut bytes = Vec::new();
-    // a device or pipe reports no length: stop one byte past the limit
-    file.take(limit + 1).read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > limit {
-        return Err(too_large(bytes.len() as u64, limit));
-    }
-    Ok(bytes)
-}
-
-fn too_large(size: u64, limit: u64) -> std::io::Error {
-    std::io::Error::new(
-        std::io::ErrorKind::InvalidData,
-        format!(
-            "file of {:.1} MB is larger than the {} MB accepted",
-            size as f64 / 1048576.0,
-            limit >> 20
-        ),
-    )
-}
+pub use crate::input_file::read_limited;
 
 #[cfg(test)]
 mod tests;

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 use stride_files::write_atomic;
-use stride_model::storage::Storage;
+use stride_model::storage::{Storage, MAX_STORAGE_BYTES};
 
 const WALKING_HALF: &str = include_str!("../data/ik_walking_half_cycle.mot");
 const RUNNING_HALF: &str = include_str!("../data/ik_running_half_cycle.mot");
@@ -91,9 +91,11 @@ pub enum DataError {
 }
 
 fn read(path: &Path) -> Result<String, DataError> {
-    std::fs::read_to_string(path).map_err(|e| DataError::Read {
-        path: path.display().to_string(),
-        reason: e.to_string(),
+    stride_model::input_file::read_text_limited(path, MAX_STORAGE_BYTES).map_err(|e| {
+        DataError::Read {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        }
     })
 }
 

@@ -27,6 +27,9 @@ pub enum ViewError {
     /// Invalid options.
     #[error("{0}")]
     Options(String),
+    /// A result file that the storage reader refused (its message names the file).
+    #[error(transparent)]
+    Storage(#[from] stride_model::storage::StorageError),
 }
 
 impl ViewError {

@@ -61,10 +61,10 @@ pub fn read_result(dir: &Path) -> Result<ResultFiles, ViewError> {
             format!("not a result folder (no {MOTION_FILE})"),
         ));
     }
-    let motion = Storage::read(&motion_path).map_err(|e| ViewError::read(&motion_path, e))?;
+    let motion = Storage::read(&motion_path)?;
     let grf_path = dir.join(GRF_FILE);
     let grf = if grf_path.is_file() {
-        Some(Storage::read(&grf_path).map_err(|e| ViewError::read(&grf_path, e))?)
+        Some(Storage::read(&grf_path)?)
     } else {
         None
     };

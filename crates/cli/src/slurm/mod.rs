@@ -5,6 +5,7 @@
 
 mod script;
 mod settings;
+mod words;
 
 pub use settings::SlurmArgs;
 
@@ -102,11 +103,20 @@ pub fn run(
             std::env::current_dir()?.join(p)
         })
     };
+    let program = std::env::current_exe().context("locating the stride program")?;
+    let (file, out) = (absolute(args.file)?, absolute(out)?);
+    for (what, p) in [
+        ("stride program", &program),
+        ("study file", &file),
+        ("output folder", &out),
+    ] {
+        words::check_no_control(what, &p.display().to_string())?;
+    }
     let job = Job {
         study,
-        program: std::env::current_exe().context("locating the stride program")?,
-        file: absolute(args.file)?,
-        out: absolute(out)?,
+        program,
+        file,
+        out,
         retry_failed: args.retry_failed,
         max_iter: args.max_iter,
         settings,

@@ -2,6 +2,7 @@
 //! final report job.
 
 use super::settings::{format_time, Settings};
+use super::words::sbatch_word;
 use std::path::{Path, PathBuf};
 use stride_study::spec::Study;
 use stride_study::tasks::Task;
@@ -38,14 +39,13 @@ impl Job<'_> {
         t += &format!("#SBATCH --mem={}M\n", s.mem_mb);
         t += &format!("#SBATCH --cpus-per-task={}\n", s.cpus);
         if let Some(p) = &s.partition {
-            t += &format!("#SBATCH --partition={p}\n");
+            t += &format!("#SBATCH {}\n", sbatch_word(&format!("--partition={p}")));
         }
-        t += &format!(
-            "#SBATCH --output={}\n",
-            self.out.join("slurm").join(log).display()
-        );
+        let output = self.out.join("slurm").join(log);
+        let output = format!("--output={}", output.display());
+        t += &format!("#SBATCH {}\n", sbatch_word(&output));
         for e in &s.extra {
-            t += &format!("#SBATCH {e}\n");
+            t += &format!("#SBATCH {}\n", sbatch_word(e));
         }
         t
     }

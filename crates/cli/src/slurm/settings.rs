@@ -7,6 +7,8 @@ use std::path::Path;
 use std::process::Command;
 use stride_study::spec::SlurmSection;
 
+use super::words::{check_name, check_sbatch_arg};
+
 /// Slurm options of `stride study` (each overrides the study file's `[slurm]` key).
 #[derive(Args, Clone, Debug, Default)]
 pub struct SlurmArgs {
@@ -32,8 +34,8 @@ pub struct SlurmArgs {
     /// Array tasks running at once (`--array=…%N`; default: no limit).
     #[arg(long, requires = "slurm")]
     pub throttle: Option<usize>,
-    /// A further `sbatch` option, written into the job scripts (repeatable), e.g.
-    /// `--sbatch-arg=--account=gait`.
+    /// A further `sbatch` option, one argument written `--name=value` into the job
+    /// scripts (repeatable), e.g. `--sbatch-arg=--account=gait`.
     #[arg(long = "sbatch-arg", requires = "slurm", allow_hyphen_values = true)]
     pub sbatch_args: Vec<String>,
 }
@@ -157,6 +159,12 @@ pub fn settings(
     }
     let partition = args.partition.clone().or_else(|| file.partition.clone());
     if let Some(p) = &partition {
+        let checked = check_name("partition", p, true);
+        if args.partition.is_some() {
+            checked.context("--partition")?;
+        } else {
+            checked.with_context(in_file)?;
+        }
         if let Some(known) = known_partitions() {
             if !known.iter().any(|k| k == p) {
                 bail!(
@@ -166,11 +174,14 @@ pub fn settings(
             }
         }
     }
+    for a in &file.extra_args {
+        check_sbatch_arg(a).with_context(|| format!("{}.extra_args", in_file()))?;
+    }
+    for a in &args.sbatch_args {
+        check_sbatch_arg(a).context("--sbatch-arg")?;
+    }
     let mut extra = file.extra_args.clone();
     extra.extend(args.sbatch_args.iter().cloned());
-    if let Some(e) = extra.iter().find(|e| !e.starts_with('-')) {
-        bail!("sbatch argument `{e}`: expected an option starting with `-`");
-    }
     Ok(Settings {
         partition,
         case_time_s,

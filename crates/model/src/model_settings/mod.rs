@@ -7,6 +7,8 @@
 //! file, line and key. [`ModelSettings::apply`] puts the settings into an imported
 //! [`Model`].
 
+use crate::contact_check::check_sphere_radius;
+use crate::input_file::{read_text_limited, MAX_SETTINGS_BYTES};
 use crate::model::{
     ContactParameters, ContactSphere, CoordinateActuator, CoordinateForce, CoordinateForceLaw,
     Model, PassiveJointTorque,
@@ -303,17 +305,22 @@ pub enum ModelSettingsError {
 
 impl ModelSettings {
     /// The settings file found beside a model file: `<stem>.toml` in the same folder.
+    /// Anything at that path counts (a folder of that name is an error when read, not
+    /// silently skipped).
     pub fn beside(model_file: &Path) -> Option<PathBuf> {
         let p = model_file.with_extension("toml");
-        p.is_file().then_some(p)
+        p.exists().then_some(p)
     }
 
-    /// Read a settings file; a relative `geometry` path is made relative to its folder.
+    /// Read a settings file (at most [`MAX_SETTINGS_BYTES`]); a relative `geometry` path
+    /// is made relative to its folder.
     pub fn read(path: &Path) -> Result<Self, ModelSettingsError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ModelSettingsError::Io {
-            file: file.clone(),
-            source,
+        let text = read_text_limited(path, MAX_SETTINGS_BYTES).map_err(|source| {
+            ModelSettingsError::Io {
+                file: file.clone(),
+                source,
+            }
         })?;
         let mut s = Self::parse(&text, &file)?;
         if let Some(g) = &s.geometry {
@@ -425,6 +432,22 @@ struct MatchSpan {
 /// A failed setting: its dotted key and what is wrong.
 type KeyError = (String, String);
 
+/// The ground plane of `[contact]`: a finite point and a finite, non-zero normal.
+fn check_plane(c: &ContactSettings) -> Result<(), KeyError> {
+    if !c.plane_point.iter().all(|v| v.is_finite()) {
+        return Err(("contact.plane_point".into(), "must be finite".into()));
+    }
+    let n = c.plane_normal;
+    let norm = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if !(norm.is_finite() && norm > 0.0) {
+        return Err((
+            "contact.plane_normal".into(),
+            format!("{n:?} must be a finite, non-zero vector"),
+        ));
+    }
+    Ok(())
+}
+
 fn coordinate(model: &Model, name: &str, key: &str) -> Result<usize, KeyError> {
     model.coordinate_index(name).ok_or_else(|| {
         (
@@ -440,14 +463,27 @@ impl ModelSettings {
         if c.spheres.is_empty() {
             return Ok(());
         }
+        if let Err(e) = c.parameters.check() {
+            return Err((format!("contact.parameters.{}", e.key), e.message));
+        }
+        check_plane(c)?;
         let mut out = Vec::with_capacity(c.spheres.len());
         for (i, s) in c.spheres.iter().enumerate() {
             let key = format!("contact.spheres[{i}]");
             let body = model
                 .body_index(&s.body)
                 .ok_or_else(|| (key.clone(), format!("the model has no body `{}`", s.body)))?;
-            if !(s.radius.is_finite() && s.radius > 0.0) {
-                return Err((key, format!("radius {} must be positive", s.radius)));
+            if let Err(e) = check_sphere_radius(s.radius) {
+                return Err((format!("{key}.radius"), e.message));
+            }
+            if !s.location.iter().all(|v| v.is_finite()) {
+                return Err((format!("{key}.location"), "must be finite".into()));
+            }
+            if let Some(j) = c.spheres[..i].iter().position(|o| o.name == s.name) {
+                return Err((
+                    format!("{key}.name"),
+                    format!("`{}` is also the name of contact.spheres[{j}]", s.name),
+                ));
             }
             out.push(ContactSphere {
                 name: s.name.clone(),
@@ -498,6 +534,21 @@ impl ModelSettings {
             let c = coordinate(model, &a.coordinate, &key)?;
             if !(a.optimal_force.is_finite() && a.optimal_force > 0.0) {
                 return Err((key, "optimal_force must be positive".into()));
+            }
+            let [lo, hi] = a.control_range;
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                return Err((
+                    format!("{key}.control_range"),
+                    format!("[{lo:?}, {hi:?}] must be finite with lower ≤ upper"),
+                ));
+            }
+            if let Some(t) = a.activation_time_constant {
+                if !(t.is_finite() && t > 0.0) {
+                    return Err((
+                        format!("{key}.activation_time_constant"),
+                        format!("{t:?} must be finite and > 0 s"),
+                    ));
+                }
             }
             model.actuators.retain(|x| x.coordinate != c);
             model.actuators.push(CoordinateActuator {
@@ -828,5 +879,64 @@ damping = 2.0
                 .unwrap_err();
             assert_eq!(e.to_string(), want);
         }
+    }
+
+    #[test]
+    fn contact_and_actuator_values_out_of_range_are_errors_with_their_key() {
+        let sphere = "[[contact.spheres]]\nname = \"s\"\nbody = \"calcn_r\"\nlocation = [0.0, 0.0, 0.0]\nradius = 0.03\n";
+        for (text, want) in [
+            (
+                format!("[contact.parameters]\nstatic_friction = -5.0\n{sphere}"),
+                "t.toml: `contact.parameters.static_friction`: -5.0 is out of range: must be finite and ≥ 0",
+            ),
+            (
+                format!("[contact.parameters]\ndynamic_friction = 0.9\n{sphere}"),
+                "t.toml: `contact.parameters.dynamic_friction`: 0.9 is larger than static_friction 0.8: the dynamic coefficient must not exceed the static one",
+            ),
+            (
+                format!("[contact]\nplane_normal = [0.0, 0.0, 0.0]\n{sphere}"),
+                "t.toml: `contact.plane_normal`: [0.0, 0.0, 0.0] must be a finite, non-zero vector",
+            ),
+            (
+                sphere.replace("0.03", "-0.03"),
+                "t.toml: `contact.spheres[0].radius`: -0.03 is out of range: must be in (0, 1] m",
+            ),
+            (
+                format!("{sphere}{sphere}"),
+                "t.toml: `contact.spheres[1].name`: `s` is also the name of contact.spheres[0]",
+            ),
+            (
+                "[[actuators]]\ncoordinate = \"lumbar_extension\"\noptimal_force = 1.0\ncontrol_range = [1.0, -1.0]".into(),
+                "t.toml: `actuators[0].control_range`: [1.0, -1.0] must be finite with lower ≤ upper",
+            ),
+            (
+                "[[actuators]]\ncoordinate = \"lumbar_extension\"\noptimal_force = 1.0\nactivation_time_constant = 0.0".into(),
+                "t.toml: `actuators[0].activation_time_constant`: 0.0 must be finite and > 0 s",
+            ),
+        ] {
+            let mut m = default_model();
+            let e = ModelSettings::parse(&text, "t.toml")
+                .unwrap()
+                .apply(&mut m, "t.toml")
+                .unwrap_err();
+            assert_eq!(e.to_string(), want);
+        }
+    }
+
+    #[test]
+    fn a_folder_beside_the_model_or_an_endless_file_is_a_read_error() {
+        let d = std::env::temp_dir().join(format!("stride-settings-{}", std::process::id()));
+        std::fs::create_dir_all(d.join("m.toml")).unwrap();
+        let beside = ModelSettings::beside(&d.join("m.osim")).unwrap();
+        let e = ModelSettings::read(&beside).unwrap_err().to_string();
+        assert!(e.ends_with("m.toml: is a folder, not a file"), "{e}");
+        std::fs::remove_dir_all(&d).unwrap();
+        let e = ModelSettings::read(Path::new("/dev/zero"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "/dev/zero: file of 16.0 MB is larger than the 16 MB accepted"
+        );
     }
 }

@@ -7,6 +7,7 @@ use super::skeleton::Frames;
 use super::xml::{child, last_component, mul, name_of, objects, rot_xyz, tag, text};
 use super::xml::{report, Ctx, El};
 use super::OsimError;
+use crate::contact_check::check_sphere_radius;
 use crate::expression::Expression;
 use crate::model::{
     ContactParameters, ContactSphere, CoordinateActuator, CoordinateForce, CoordinateForceLaw,
@@ -115,14 +116,26 @@ fn actuator(ctx: &Ctx, f: El, model: &Model) -> Result<CoordinateActuator, OsimE
     } else {
         None
     };
+    let control_range = [
+        ctx.opt_f64(f, "min_control", f64::NEG_INFINITY)?,
+        ctx.opt_f64(f, "max_control", f64::INFINITY)?,
+    ];
+    let [lo, hi] = control_range;
+    if lo.is_nan() || hi.is_nan() || lo > hi {
+        let at = child(f, "max_control").unwrap_or(f);
+        return Err(ctx.err(
+            at,
+            format!(
+                "control range [{}, {}]: min_control must not exceed max_control",
+                control_range[0], control_range[1]
+            ),
+        ));
+    }
     Ok(CoordinateActuator {
         name: name_of(f).to_string(),
         coordinate,
         optimal_force: ctx.opt_f64(f, "optimal_force", 1.0)?,
-        control_range: [
-            ctx.opt_f64(f, "min_control", f64::NEG_INFINITY)?,
-            ctx.opt_f64(f, "max_control", f64::INFINITY)?,
-        ],
+        control_range,
         activation_time_constant,
     })
 }
@@ -477,8 +490,8 @@ fn contact<'g>(
         ctx.opt_vec3(sphere, "location", [0.0; 3])?,
     )?;
     let radius = ctx.req_f64(sphere, "radius")?;
-    if radius.is_nan() || radius <= 0.0 {
-        return Err(ctx.err(ctx.req(sphere, "radius")?, "radius must be positive"));
+    if let Err(e) = check_sphere_radius(radius) {
+        return Err(ctx.err(ctx.req(sphere, "radius")?, format!("radius {}", e.message)));
     }
     // The half-space: OpenSim's solid occupies x > 0 of its own frame, so the outward
     // normal is −x of that frame, expressed in ground.
@@ -521,6 +534,10 @@ fn contact<'g>(
         )?,
         ..d
     };
+    if let Err(e) = parameters.check() {
+        let at = child(f, e.key).unwrap_or(f);
+        return Err(ctx.err(at, format!("{} {}", e.key, e.message)));
+    }
     Ok(ContactSphere {
         name: name_of(f).to_string(),
         body,

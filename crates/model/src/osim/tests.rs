@@ -371,3 +371,35 @@ fn path_point_on_a_missing_body_is_an_error() {
     assert!(e.starts_with(&format!("bad.osim:{line}:")), "{e}");
     assert!(e.contains("shank"), "{e}");
 }
+
+#[test]
+fn contact_values_out_of_range_name_the_element_and_line() {
+    let shipped = crate::shipped::shipped("gait1018").unwrap();
+    for (from, to, needle) in [
+        (
+            "<stiffness>3067776</stiffness>",
+            "<stiffness>-5</stiffness>",
+            "stiffness -5.0 is out of range",
+        ),
+        (
+            "<dissipation>2</dissipation>",
+            "<dissipation>nan</dissipation>",
+            "dissipation NaN is out of range",
+        ),
+        (
+            "<transition_velocity>0.20000000000000001</transition_velocity>",
+            "<transition_velocity>0</transition_velocity>",
+            "transition_velocity 0.0 is out of range",
+        ),
+        (
+            "<radius>0.035000000000000003</radius>",
+            "<radius>1e300</radius>",
+            "radius 1e300 is out of range",
+        ),
+    ] {
+        let text = shipped.osim.replacen(from, to, 1);
+        let e = err_of(&text);
+        assert!(e.contains(needle), "{e}");
+        assert!(e.contains(&format!(":{}:", line_of(&text, to))), "{e}");
+    }
+}

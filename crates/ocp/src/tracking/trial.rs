@@ -83,6 +83,18 @@ pub enum TrialError {
         /// Last time of the data [s].
         d1: f64,
     },
+    /// A measured value the tracking uses is NaN or infinite.
+    #[error("{file}: column `{column}` is not finite ({value}) at t = {time} s")]
+    NotFinite {
+        /// File.
+        file: String,
+        /// Column.
+        column: String,
+        /// Time of the row [s].
+        time: f64,
+        /// The value.
+        value: f64,
+    },
     /// Kinematics unusable.
     #[error(transparent)]
     Kinematics(#[from] crate::experimental::KinematicsError),
@@ -105,7 +117,15 @@ pub struct TrialFiles {
 /// Reads a storage file, naming it in the error.
 fn read(path: &Path) -> Result<(String, Storage), TrialError> {
     let name = path.display().to_string();
-    let s = Storage::read(path).map_err(|e| TrialError::Read(format!("{name}: {e}")))?;
+    let s = Storage::read(path).map_err(|e| {
+        let message = e.to_string();
+        // storage errors of a file already start with its name
+        TrialError::Read(if message.starts_with(&name) {
+            message
+        } else {
+            format!("{name}: {message}")
+        })
+    })?;
     Ok((name, s))
 }
 
@@ -218,6 +238,27 @@ pub struct Trial {
     pub window: [f64; 2],
 }
 
+/// Checks that every value of `columns` (named `names`, one value per time of `time`) of
+/// `file` is finite.
+fn check_finite(
+    file: &str,
+    time: &[f64],
+    names: &[String],
+    columns: &[Vec<f64>],
+) -> Result<(), TrialError> {
+    for (name, col) in names.iter().zip(columns) {
+        if let Some((s, v)) = col.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(TrialError::NotFinite {
+                file: file.into(),
+                column: name.clone(),
+                time: time.get(s).copied().unwrap_or(f64::NAN),
+                value: *v,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Checks that `window` lies inside the times of `file`.
 fn check_window(file: &str, time: &[f64], window: [f64; 2]) -> Result<(), TrialError> {
     let d0 = time.first().copied().unwrap_or(f64::NAN);
@@ -251,6 +292,10 @@ impl Trial {
         grf_columns: &[[String; 9]; 2],
         cutoff_hz: f64,
     ) -> Result<Self, TrialError> {
+        let [t0, t1] = window;
+        if !(t0.is_finite() && t1.is_finite() && t0 < t1) {
+            return Err(TrialError::EmptyWindow { t0, t1 });
+        }
         let (mname, motion) = &files.motion;
         check_window(mname, &motion.time(), window)?;
         let mut kin = Kinematics::from_storage_filtered(motion, gait, mname, cutoff_hz)?;
@@ -263,14 +308,19 @@ impl Trial {
             tau_time = ts.time();
             check_window(tname, &tau_time, window)?;
             let mut columns = Vec::with_capacity(gait.nq());
+            let mut found = Vec::with_capacity(gait.nq());
             for c in &gait.coordinates {
                 let names = [format!("{}_moment", c.name), format!("{}_force", c.name)];
-                let col = names.iter().find_map(|n| ts.column(n));
-                columns.push(col.ok_or(TrialError::MissingColumn {
-                    file: tname.clone(),
-                    column: names[0].clone(),
-                })?);
+                let Some((n, col)) = names.iter().find_map(|n| Some((n, ts.column(n)?))) else {
+                    return Err(TrialError::MissingColumn {
+                        file: tname.clone(),
+                        column: names[0].clone(),
+                    });
+                };
+                columns.push(col);
+                found.push(n.clone());
             }
+            check_finite(tname, &tau_time, &found, &columns)?;
             tau = (0..tau_time.len())
                 .map(|s| columns.iter().map(|c| c[s]).collect())
                 .collect();
@@ -302,6 +352,8 @@ impl Trial {
                 column: label.clone(),
             })?;
         }
+        let labels: Vec<String> = grf_columns.iter().flatten().cloned().collect();
+        check_finite(name, &time, &labels, &columns)?;
         Ok(GroundReactions::new(time, &columns))
     }
 
