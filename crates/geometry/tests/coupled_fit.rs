@@ -44,7 +44,7 @@ fn coupled_coordinate_follows_the_constraint_in_random_poses() {
     }
     // At OpenSim's knee angles, the coupled value is OpenSim's.
     let mut q = poses.pose(0).to_vec();
-    let mut geo = PathGeometry::new(&m).unwrap();
+    let geo = PathGeometry::new(&m).unwrap();
     let mut worst = 0.0f64;
     for (k, c) in opensim_cap() {
         q[knee] = k;
