@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use stride_geometry::{
     content_hash, fit_ligaments, fit_model, poses_from_motion, random_poses, FitModelOptions,
-    FitOptions, FitSettings, GeometryFile,
+    FitOptions, FitSettings, GeometryFile, MissingCoordinates,
 };
 use stride_model::input_file::read_limited;
 use stride_model::osim::MAX_OSIM_BYTES;
@@ -16,8 +16,10 @@ use stride_model::osim::MAX_OSIM_BYTES;
 pub struct FitArgs {
     /// The OpenSim model file.
     pub file: PathBuf,
-    /// Poses to fit on (OpenSim .mot, columns named after coordinates, angles in degrees);
-    /// default: random poses in the ranges of the paper.
+    /// Poses to fit on (OpenSim .mot/.sto, columns named after coordinates or OpenSim 4
+    /// state paths, angles in degrees unless `inDegrees=no`; coordinates without a column
+    /// at their default, coupled ones from their constraint); default: random poses in the
+    /// ranges of the paper.
     #[arg(long)]
     pub samples: Option<PathBuf>,
     /// Number of random poses when no --samples file is given.
@@ -50,7 +52,7 @@ pub fn run(args: FitArgs) -> anyhow::Result<()> {
         &args.file.display().to_string(),
     )?;
     let poses = match &args.samples {
-        Some(p) => poses_from_motion(&model, p)?,
+        Some(p) => poses_from_motion(&model, p, MissingCoordinates::Default)?,
         None => random_poses(&model, args.n_samples, args.seed),
     };
     if poses.is_empty() {

@@ -6,7 +6,8 @@ use clap::Args;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use stride_geometry::{
-    polynomial_length, polynomial_moment_arm, poses_from_motion, GeometryFile, PathGeometry,
+    polynomial_length, polynomial_moment_arm, poses_from_motion, GeometryFile, MissingCoordinates,
+    PathGeometry,
 };
 
 /// Arguments of `stride model paths`.
@@ -14,7 +15,9 @@ use stride_geometry::{
 pub struct PathsArgs {
     /// The OpenSim model file.
     pub file: PathBuf,
-    /// Motion (OpenSim .mot/.sto, columns named after coordinates).
+    /// Motion (OpenSim .mot/.sto, columns named after coordinates or OpenSim 4 state paths
+    /// such as stride's states.sto; every unlocked coordinate but the coupled ones, which
+    /// follow their constraint).
     #[arg(long)]
     pub motion: PathBuf,
     /// Output CSV (default: standard output).
@@ -35,7 +38,7 @@ type Evaluate = dyn FnMut(&[f64], &mut [f64], &mut [f64]);
 pub fn run(args: PathsArgs) -> anyhow::Result<()> {
     let mut model = stride_model::osim::load_osim(&args.file)
         .with_context(|| format!("loading {}", args.file.display()))?;
-    let poses = poses_from_motion(&model, &args.motion)?;
+    let poses = poses_from_motion(&model, &args.motion, MissingCoordinates::Error)?;
     let nc = model.coordinates.len();
     let nm = model.muscles.len();
     let mut csv = String::from("frame,muscle,length_m");

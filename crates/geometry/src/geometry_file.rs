@@ -369,6 +369,26 @@ pub fn content_hash(bytes: &[u8]) -> String {
     )
 }
 
+/// True when a polynomial of `file` spans a coupled coordinate of `model` (a fit made
+/// before coupled coordinates followed their constraint), so that it is fitted again.
+fn spans_coupled(file: &GeometryFile, model: &Model) -> bool {
+    let coupled: Vec<&str> = model
+        .couplers
+        .iter()
+        .map(|k| model.coordinates[k.dependent].name.as_str())
+        .collect();
+    file.path_polynomials
+        .iter()
+        .chain(&file.ligament_polynomials)
+        .flatten()
+        .flat_map(|p| &p.coordinates)
+        .any(|&c| {
+            file.coordinates
+                .get(c)
+                .is_some_and(|n| coupled.contains(&n.as_str()))
+        })
+}
+
 /// Where a model's geometry came from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum GeometrySource {
@@ -390,7 +410,10 @@ pub fn cached_geometry(
     let hash = content_hash(model_bytes);
     let path = cache_dir.join(format!("geometry-{hash}.json"));
     if let Ok(file) = GeometryFile::read(&path) {
-        if file.model_hash.as_deref() == Some(hash.as_str()) && file.settings == *settings {
+        if file.model_hash.as_deref() == Some(hash.as_str())
+            && file.settings == *settings
+            && !spans_coupled(&file, model)
+        {
             return Ok((file, GeometrySource::Cached(path)));
         }
     }

@@ -2,6 +2,7 @@
 //! polynomial approximation (FORMULATION section 4).
 //!
 //! - [`basis`]: the monomial basis and its coefficient order (4.2).
+//! - [`couplers`]: coupled coordinates computed from their independent coordinates.
 //! - [`fit`]: stacked length + moment-arm least squares and order selection (4.4).
 //! - [`function`], [`kinematics`], [`path`], [`wrap`]: path geometry (length, moment
 //!   arms, lengthening speed) with OpenSim's path points and wrapping over cylinders,
@@ -12,6 +13,7 @@
 
 mod atan;
 pub mod basis;
+pub mod couplers;
 mod cylinder_spiral;
 mod ellipsoid_closest;
 pub mod error;
@@ -33,6 +35,7 @@ mod wrap_shapes;
 mod wrap_torus;
 
 pub use basis::{basis_size, MonomialBasis};
+pub use couplers::Couplers;
 pub use error::GeometryError;
 pub use fit::{fit_order, fit_polynomial, FitOptions, MuscleSamples, PolynomialFit};
 pub use geometry_file::{cached_geometry, content_hash, FitSettings, GeometryFile, GeometrySource};
@@ -42,4 +45,4 @@ pub use model_fit::{
 };
 pub use path::{lengthening_speed, MusclePaths, PathGeometry};
 pub use poly::{polynomial_length, polynomial_moment_arm};
-pub use samples::{poses_from_motion, random_poses, PoseSamples};
+pub use samples::{poses_from_motion, random_poses, MissingCoordinates, PoseSamples};

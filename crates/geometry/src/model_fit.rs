@@ -128,7 +128,8 @@ impl FitReport {
 /// Path-point lengths and moment arms of every muscle at every pose.
 #[derive(Clone, Debug)]
 pub struct SampledGeometry {
-    /// Coordinates whose moment arms were evaluated (all unlocked coordinates).
+    /// Coordinates whose moment arms were evaluated (all unlocked coordinates but the
+    /// coupled ones, whose effect enters through their independent coordinate's).
     pub candidates: Vec<CoordId>,
     /// Spanned coordinates of each muscle (subset of `candidates`, model order).
     pub spanned: Vec<Vec<CoordId>>,
@@ -171,7 +172,7 @@ fn sample_paths(
 ) -> Result<SampledGeometry, GeometryError> {
     let nm = geo.paths.len();
     let candidates: Vec<CoordId> = (0..model.coordinates.len())
-        .filter(|&i| !model.coordinates[i].locked)
+        .filter(|&i| !model.coordinates[i].locked && geo.couplers.independent_of(i).is_none())
         .collect();
     let nc = candidates.len();
     let ns = poses.len();

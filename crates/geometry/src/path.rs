@@ -9,6 +9,7 @@
 //! **not meant for recorded tapes**; the optimal control problem uses the fitted
 //! polynomials instead.
 
+use crate::couplers::Couplers;
 use crate::error::GeometryError;
 use crate::function::PreparedFunction;
 use crate::kinematics::{BodyPoses, Kinematics, Vec3};
@@ -307,7 +308,10 @@ pub struct PathGeometry {
     pub fd_step: f64,
     poses: BodyPoses<f64>,
     dual_poses: BodyPoses<Dual>,
-    /// `depends[c][m]`: [`MusclePaths::depends_on`] of every coordinate and muscle.
+    /// Coupled coordinates, computed from their independent coordinates at every pose.
+    pub couplers: Couplers,
+    /// `depends[c][m]`: [`MusclePaths::depends_on`] of every coordinate and muscle (an
+    /// independent coordinate also through its coupled ones; a coupled one never).
     depends: Vec<Vec<bool>>,
     q_work: Vec<f64>,
     q_dual: Vec<Dual>,
@@ -330,8 +334,9 @@ impl PathGeometry {
     /// The geometry of the prepared `paths` of `model`.
     fn with_paths(model: &Model, paths: MusclePaths) -> Result<Self, GeometryError> {
         let kinematics = Kinematics::new(model)?;
+        let couplers = Couplers::new(model)?;
         let n = paths.len();
-        let depends = (0..kinematics.n_coords())
+        let mut depends: Vec<Vec<bool>> = (0..kinematics.n_coords())
             .map(|c| {
                 let (moved, n_joints) = kinematics.moved_by(c);
                 (0..n)
@@ -339,7 +344,14 @@ impl PathGeometry {
                     .collect()
             })
             .collect();
+        for (d, i) in couplers.pairs() {
+            let through = std::mem::replace(&mut depends[d], vec![false; n]);
+            for (a, b) in depends[i].iter_mut().zip(through) {
+                *a |= b;
+            }
+        }
         Ok(Self {
+            couplers,
             depends,
             poses: BodyPoses::new(kinematics.n_bodies()),
             dual_poses: BodyPoses::new(kinematics.n_bodies()),
@@ -363,11 +375,14 @@ impl PathGeometry {
             .unwrap_or(false)
     }
 
-    /// Lengths [m] of all muscles at `q` (model coordinate order) into `out`.
+    /// Lengths [m] of all muscles at `q` (model coordinate order; the values of coupled
+    /// coordinates are ignored and computed from their independent ones) into `out`.
     pub fn lengths(&mut self, q: &[f64], out: &mut [f64]) {
-        self.kinematics.forward(q, &mut self.poses);
+        self.q_work.copy_from_slice(q);
+        self.couplers.apply(&mut self.q_work);
+        self.kinematics.forward(&self.q_work, &mut self.poses);
         for (m, o) in out.iter_mut().enumerate() {
-            *o = self.paths.length(m, q, &self.poses);
+            *o = self.paths.length(m, &self.q_work, &self.poses);
         }
     }
 
@@ -377,7 +392,8 @@ impl PathGeometry {
     /// On wrapped paths the tangent points are held fixed on their wrap objects, as in
     /// OpenSim's moment arms; where OpenSim's wrapped length is not the shortest path
     /// (ellipsoids, cylinders, paths with several wraps) these differ from the derivative
-    /// of the length.
+    /// of the length. About an independent coordinate the coupled coordinates move with
+    /// it (chain rule, as OpenSim's moment arms); about a coupled coordinate all are 0.
     pub fn moment_arms(&mut self, q: &[f64], c: CoordId, out: &mut [f64]) {
         let depends = &self.depends[c];
         if !depends.iter().any(|d| *d) {
@@ -387,6 +403,7 @@ impl PathGeometry {
         for (i, (d, v)) in self.q_dual.iter_mut().zip(q).enumerate() {
             *d = Dual::new(*v, if i == c { 1.0 } else { 0.0 });
         }
+        self.couplers.apply(&mut self.q_dual);
         self.kinematics.forward(&self.q_dual, &mut self.dual_poses);
         for (m, o) in out.iter_mut().enumerate() {
             *o = if depends[m] {
@@ -404,11 +421,13 @@ impl PathGeometry {
         let h = self.fd_step;
         self.q_work.copy_from_slice(q);
         self.q_work[c] = q[c] + h;
+        self.couplers.apply(&mut self.q_work);
         self.kinematics.forward(&self.q_work, &mut self.poses);
         for m in 0..self.plus.len() {
             self.plus[m] = self.paths.length(m, &self.q_work, &self.poses);
         }
         self.q_work[c] = q[c] - h;
+        self.couplers.apply(&mut self.q_work);
         self.kinematics.forward(&self.q_work, &mut self.poses);
         for m in 0..self.minus.len() {
             self.minus[m] = self.paths.length(m, &self.q_work, &self.poses);

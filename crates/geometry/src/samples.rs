@@ -1,9 +1,10 @@
 //! Poses at which the path geometry is sampled for fitting (FORMULATION 4.4 step 1):
 //! read from an OpenSim motion file, or drawn at random (seeded, reproducible).
 
+use crate::couplers::Couplers;
 use crate::error::GeometryError;
 use std::path::Path;
-use stride_model::storage::MAX_STORAGE_BYTES;
+use stride_model::storage::{coordinate_of_label, Storage};
 use stride_model::{Model, MotionType};
 
 /// A set of poses: full model coordinate vectors, row-major `n_samples × n_coords`
@@ -98,8 +99,11 @@ impl SplitMix64 {
 /// other free coordinates of joints not attached to the ground drawn in their model
 /// range; coordinates of joints attached to the ground (pelvis) at 0; locked coordinates
 /// at their default. A left coordinate takes the value drawn for its right twin, as in
-/// the paper.
+/// the paper. A coupled coordinate is not drawn: it takes its constraint's value (NaN
+/// when the model's couplers cannot be prepared, an error [`crate::PathGeometry::new`]
+/// names).
 pub fn random_poses(model: &Model, n: usize, seed: u64) -> PoseSamples {
+    let couplers = Couplers::new(model).ok();
     let nc = model.coordinates.len();
     let mut rng = SplitMix64::new(seed);
     let mut q = vec![0.0; n * nc];
@@ -116,7 +120,7 @@ pub fn random_poses(model: &Model, n: usize, seed: u64) -> PoseSamples {
     for s in 0..n {
         let row = &mut q[s * nc..(s + 1) * nc];
         for (i, c) in model.coordinates.iter().enumerate() {
-            if twin[i].is_some() {
+            if twin[i].is_some() || model.couplers.iter().any(|k| k.dependent == i) {
                 continue;
             }
             let grounded = model
@@ -143,73 +147,104 @@ pub fn random_poses(model: &Model, n: usize, seed: u64) -> PoseSamples {
                 };
             }
         }
+        match &couplers {
+            Some(c) => c.apply(row),
+            None => model
+                .couplers
+                .iter()
+                .for_each(|k| row[k.dependent] = f64::NAN),
+        }
     }
     PoseSamples { n_coords: nc, q }
 }
 
-/// Reads poses from an OpenSim `.mot`/`.sto` file, mapping columns to coordinates by name.
-/// Rotational coordinates are converted from degrees unless the header says
-/// `inDegrees=no`; coordinates without a column take their default value.
-pub fn poses_from_motion(model: &Model, path: &Path) -> Result<PoseSamples, GeometryError> {
+/// What [`poses_from_motion`] does with an unlocked, uncoupled coordinate the motion has
+/// no column for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MissingCoordinates {
+    /// An error naming the coordinate (a motion to evaluate must give every coordinate).
+    Error,
+    /// The coordinate takes its default value (fitting samples such as the paper's, which
+    /// leave out the coordinates the fit does not vary).
+    Default,
+}
+
+/// Reads poses from an OpenSim `.mot`/`.sto` file, mapping columns to coordinates by
+/// name or by OpenSim 4 state path (`/jointset/<joint>/<coordinate>/value`; other state
+/// columns are ignored). Rotational coordinates are converted from degrees when the
+/// header says `inDegrees=yes`, or says nothing and the columns are named after the
+/// coordinates (OpenSim writes states in radians). Locked coordinates take their default
+/// and coupled coordinates their constraint's value, as OpenSim's assembly does; an
+/// unlocked independent coordinate without a column is handled as `missing` says; a value
+/// that is not finite is an error naming its row and column.
+pub fn poses_from_motion(
+    model: &Model,
+    path: &Path,
+    missing: MissingCoordinates,
+) -> Result<PoseSamples, GeometryError> {
     let err = |what: String| GeometryError::Motion {
         path: path.display().to_string(),
         what,
     };
-    let text = stride_model::input_file::read_text_limited(path, MAX_STORAGE_BYTES)
-        .map_err(|e| err(format!("cannot read: {e}")))?;
-    let mut lines = text.lines().enumerate();
-    let mut in_degrees = true;
-    for (_, line) in lines.by_ref() {
-        let l = line.trim();
-        if l.eq_ignore_ascii_case("endheader") {
-            break;
-        }
-        if let Some(v) = l.strip_prefix("inDegrees=") {
-            in_degrees = v.trim().eq_ignore_ascii_case("yes");
-        }
-    }
-    let (hline, header) = lines
-        .find(|(_, l)| !l.trim().is_empty())
-        .ok_or_else(|| err("no column header after `endheader`".into()))?;
-    let columns: Vec<&str> = header.split_whitespace().collect();
-    let nc = model.coordinates.len();
-    let map: Vec<Option<usize>> = columns.iter().map(|c| model.coordinate_index(c)).collect();
-    if map.iter().all(|m| m.is_none()) {
-        return Err(err(format!(
-            "line {}: no column is named after a model coordinate",
-            hline + 1
-        )));
-    }
-    let defaults: Vec<f64> = model.coordinates.iter().map(|c| c.default_value).collect();
-    let mut q = Vec::new();
-    for (ln, line) in lines {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let fields: Vec<&str> = line.split_whitespace().collect();
-        if fields.len() != columns.len() {
+    let storage = Storage::read(path).map_err(|e| err(strip_path(&e.to_string(), path)))?;
+    let couplers = Couplers::new(model)?;
+    let map: Vec<Option<usize>> = storage
+        .labels
+        .iter()
+        .map(|l| coordinate_of_label(l).and_then(|c| model.coordinate_index(c)))
+        .collect();
+    for (i, c) in model.coordinates.iter().enumerate() {
+        let given = map.contains(&Some(i));
+        let free = !c.locked && couplers.independent_of(i).is_none();
+        if !given && free && missing == MissingCoordinates::Error {
             return Err(err(format!(
-                "line {}: {} values for {} columns",
-                ln + 1,
-                fields.len(),
-                columns.len()
+                "no column for coordinate `{}` (only locked and coupled coordinates may be \
+                 left out)",
+                c.name
             )));
         }
+    }
+    let in_degrees = storage.angles_in_degrees();
+    let time = storage.column_index("time");
+    let defaults: Vec<f64> = model.coordinates.iter().map(|c| c.default_value).collect();
+    let mut q = Vec::with_capacity(storage.n_rows() * defaults.len());
+    for (r, values) in storage.rows.iter().enumerate() {
         let mut row = defaults.clone();
-        for (k, f) in fields.iter().enumerate() {
-            if let Some(i) = map[k] {
-                let v: f64 = f.parse().map_err(|_| {
-                    err(format!(
-                        "line {}, column {}: `{f}` is not a number",
-                        ln + 1,
-                        columns[k]
-                    ))
-                })?;
-                let rot = model.coordinates[i].motion_type == MotionType::Rotational;
-                row[i] = if rot && in_degrees { v.to_radians() } else { v };
+        for (k, v) in values.iter().enumerate() {
+            let Some(i) = map[k] else { continue };
+            if model.coordinates[i].locked || couplers.independent_of(i).is_some() {
+                continue;
             }
+            if !v.is_finite() {
+                let at = time.map_or(String::new(), |t| format!(" (time {})", values[t]));
+                return Err(err(format!(
+                    "data row {}{at}, column `{}`: {v} is not a coordinate value",
+                    r + 1,
+                    storage.labels[k]
+                )));
+            }
+            let rot = model.coordinates[i].motion_type == MotionType::Rotational;
+            row[i] = if rot && in_degrees {
+                v.to_radians()
+            } else {
+                *v
+            };
         }
+        couplers.apply(&mut row);
         q.extend_from_slice(&row);
     }
-    Ok(PoseSamples { n_coords: nc, q })
+    Ok(PoseSamples {
+        n_coords: defaults.len(),
+        q,
+    })
+}
+
+/// A storage error's message without its leading `<path>:` (the motion error names the
+/// file already).
+fn strip_path(message: &str, path: &Path) -> String {
+    let p = path.display().to_string();
+    message
+        .strip_prefix(&p)
+        .map_or(message, |m| m.trim_start_matches(':').trim_start())
+        .to_string()
 }

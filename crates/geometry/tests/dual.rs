@@ -4,7 +4,9 @@
 
 use stride_ad::Dual;
 use stride_geometry::kinematics::{BodyPoses, Kinematics};
-use stride_geometry::{lengthening_speed, poses_from_motion, MusclePaths, PathGeometry};
+use stride_geometry::{
+    lengthening_speed, poses_from_motion, MissingCoordinates, MusclePaths, PathGeometry,
+};
 
 #[test]
 fn dual_moment_arms_and_speed_match_finite_differences() {
@@ -18,6 +20,7 @@ fn dual_moment_arms_and_speed_match_finite_differences() {
     let poses = poses_from_motion(
         &model,
         std::path::Path::new(&format!("{root}/polynomial_fit_samples/dummy_motion.mot")),
+        MissingCoordinates::Default,
     )
     .unwrap()
     .subsample(250, 20);

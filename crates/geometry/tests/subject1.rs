@@ -3,7 +3,8 @@
 
 use std::path::PathBuf;
 use stride_geometry::{
-    fit_model, poses_from_motion, FitModelOptions, MonomialBasis, PathGeometry, PoseSamples,
+    fit_model, poses_from_motion, FitModelOptions, MissingCoordinates, MonomialBasis, PathGeometry,
+    PoseSamples,
 };
 use stride_model::Model;
 
@@ -25,6 +26,7 @@ fn load(root: &std::path::Path) -> (Model, PoseSamples) {
     let poses = poses_from_motion(
         &model,
         &root.join("polynomial_fit_samples/dummy_motion.mot"),
+        MissingCoordinates::Default,
     )
     .unwrap();
     assert_eq!(poses.len(), 5000);

@@ -201,6 +201,24 @@ impl Storage {
         Some(self.rows.iter().map(|r| r[j]).collect())
     }
 
+    /// The values of the column holding coordinate `name`'s value, named after it or by
+    /// its OpenSim 4 state path (see [`coordinate_of_label`]), if present.
+    pub fn coordinate_column(&self, name: &str) -> Option<Vec<f64>> {
+        let j = self
+            .labels
+            .iter()
+            .position(|l| coordinate_of_label(l) == Some(name))?;
+        Some(self.rows.iter().map(|r| r[j]).collect())
+    }
+
+    /// Whether rotational coordinates are in degrees: as the header's `inDegrees` says;
+    /// without it, degrees unless the columns are OpenSim 4 state paths (states are in
+    /// radians).
+    pub fn angles_in_degrees(&self) -> bool {
+        self.in_degrees
+            .unwrap_or_else(|| !self.labels.iter().any(|l| l.starts_with('/')))
+    }
+
     /// The `time` column [s] (or the first column when no column is labelled `time`).
     pub fn time(&self) -> Vec<f64> {
         self.column("time")
@@ -274,6 +292,18 @@ impl Storage {
             source,
         })
     }
+}
+
+/// The coordinate whose value a column holds: the label itself for a plain label
+/// (`knee_angle_r`), the coordinate of an OpenSim 4 state path
+/// (`/jointset/walker_knee_r/knee_angle_r/value`), `None` for any other state path
+/// (speeds, muscle states).
+pub fn coordinate_of_label(label: &str) -> Option<&str> {
+    if !label.starts_with('/') {
+        return Some(label);
+    }
+    let rest = label.strip_suffix("/value")?;
+    rest.rsplit('/').next().filter(|c| !c.is_empty())
 }
 
 /// Largest `.mot`/`.sto` file read [bytes].

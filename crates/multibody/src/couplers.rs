@@ -24,7 +24,7 @@ pub struct CompiledCoupler {
 }
 
 /// Compile the couplers of `model`; an independent coordinate may not itself be dependent.
-pub(crate) fn compile(model: &Model) -> Result<Vec<CompiledCoupler>, MultibodyError> {
+pub fn compile_couplers(model: &Model) -> Result<Vec<CompiledCoupler>, MultibodyError> {
     let nc = model.coordinates.len();
     let mut out = Vec::with_capacity(model.couplers.len());
     for c in &model.couplers {

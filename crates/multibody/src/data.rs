@@ -325,7 +325,7 @@ impl<T: Scalar> Data<T> {
             groups,
             sphere_group,
             sphere_normal,
-            couplers: crate::couplers::compile(model)?,
+            couplers: crate::couplers::compile_couplers(model)?,
             coupled: [
                 vec![T::zero(); nc],
                 vec![T::zero(); nc],

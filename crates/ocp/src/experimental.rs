@@ -113,14 +113,14 @@ impl Kinematics {
             });
         }
         let fs = (ns - 1) as f64 / (time[ns - 1] - time[0]);
-        let in_degrees = storage.in_degrees.unwrap_or(true);
+        let in_degrees = storage.angles_in_degrees();
         let nq = gait.nq();
         let mut q = vec![vec![0.0; nq]; ns];
         let mut v = vec![vec![0.0; nq]; ns];
         let mut a = vec![vec![0.0; nq]; ns];
         let mut measured = vec![false; nq];
         for (i, c) in gait.coordinates.iter().enumerate() {
-            let Some(mut col) = storage.column(&c.name) else {
+            let Some(mut col) = storage.coordinate_column(&c.name) else {
                 continue;
             };
             measured[i] = true;

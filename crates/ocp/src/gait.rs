@@ -1,9 +1,11 @@
 //! The gait view of a model: which coordinates are the free-floating pelvis, which are
 //! muscle-driven, which are driven by ideal arm actuators, which are locked, and how
-//! left and right map onto each other. Everything is derived from the model (joint tree,
+//! left and right map onto each other, and which coupled coordinates follow others
+//! (not free variables). Everything is derived from the model (joint tree,
 //! actuators, names with `_l`/`_r` suffixes, joint axes), not hard-coded to one model.
 
 use stride_model::{CoordId, JointKind, Model, MotionType};
+use stride_multibody::couplers::{compile_couplers, couple, CompiledCoupler};
 
 /// How a free coordinate is driven in the optimal control problem.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,6 +46,8 @@ pub struct GaitModel {
     pub coordinates: Vec<GaitCoordinate>,
     /// Locked coordinates and the value they are held at [rad or m].
     pub locked: Vec<(CoordId, f64)>,
+    /// Coupled coordinates: computed from their independent coordinate, never free.
+    pub couplers: Vec<CompiledCoupler>,
     /// Model muscle indices in problem order (left side, right side, unsided).
     pub muscles: Vec<usize>,
     /// For each problem muscle, the problem index of its mirror.
@@ -82,6 +86,23 @@ pub enum GaitModelError {
     /// An unsided coordinate moves about an axis that is neither in nor normal to the sagittal plane.
     #[error("cannot decide the left-right mirror of coordinate `{0}`: its axis is oblique to the sagittal plane")]
     ObliqueAxis(String),
+    /// The fitted geometry spans a coupled coordinate (fitted outside stride or before
+    /// coupled coordinates followed their constraint).
+    #[error("the fitted muscle geometry spans the coupled coordinate `{0}`: fit it again (`stride model fit`), so that it spans the independent coordinate instead")]
+    SpansCoupled(String),
+    /// A force element acts on a coupled coordinate, which is not a variable.
+    #[error("coordinate `{coordinate}` follows `{independent}` (coupled) but has {what}: put it on `{independent}` or remove it")]
+    CoupledDriven {
+        /// The coupled coordinate.
+        coordinate: String,
+        /// The coordinate it follows.
+        independent: String,
+        /// What acts on it.
+        what: &'static str,
+    },
+    /// A coordinate coupler cannot be evaluated.
+    #[error("{0}")]
+    Coupler(String),
 }
 
 /// Split a name into (base, side) where side is 'l', 'r' or none.
@@ -149,11 +170,35 @@ impl GaitModel {
         if model.path_polynomials.iter().all(|p| p.is_none()) && !model.muscles.is_empty() {
             return Err(GaitModelError::NoGeometry);
         }
+        for k in &model.couplers {
+            let d = k.dependent;
+            let what = if actuated[d].is_some() {
+                "an actuator"
+            } else if model.passive_torques.iter().any(|p| p.coordinate == d) {
+                "a passive torque"
+            } else if model.coordinate_forces.iter().any(|f| f.coordinate == d) {
+                "a coordinate force"
+            } else {
+                continue;
+            };
+            return Err(GaitModelError::CoupledDriven {
+                coordinate: model.coordinates[d].name.clone(),
+                independent: model.coordinates[k.independent].name.clone(),
+                what,
+            });
+        }
+        if let Some(k) = model.couplers.iter().find(|k| spanned[k.dependent]) {
+            return Err(GaitModelError::SpansCoupled(
+                model.coordinates[k.dependent].name.clone(),
+            ));
+        }
         let mut coordinates = Vec::new();
         let mut locked = Vec::new();
         for &ji in &joint_order {
             for (ci, c) in model.coordinates.iter().enumerate() {
-                if c.joint != ji {
+                // A coupled coordinate is not a free variable: the multibody layer and the
+                // outputs compute it from its independent coordinate.
+                if c.joint != ji || model.couplers.iter().any(|k| k.dependent == ci) {
                     continue;
                 }
                 if c.locked {
@@ -229,14 +274,24 @@ impl GaitModel {
                 })?;
             muscle_mirror.push(m);
         }
+        let couplers =
+            compile_couplers(model).map_err(|e| GaitModelError::Coupler(e.to_string()))?;
         Ok(Self {
             coordinates,
             locked,
+            couplers,
             muscles,
             muscle_mirror,
             forward_translation,
             vertical_translation,
         })
+    }
+
+    /// Overwrites the coupled coordinates of model-ordered values `q` [rad or m], speeds
+    /// `v` [rad s⁻¹ or m s⁻¹] and accelerations `a` [rad s⁻² or m s⁻²] (when given) from
+    /// their independent coordinates.
+    pub fn couple(&self, q: &mut [f64], v: &mut [f64], a: Option<&mut [f64]>) {
+        couple(&self.couplers, q, v, a);
     }
 
     /// Number of free coordinates.

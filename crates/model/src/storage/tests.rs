@@ -113,3 +113,35 @@ fn names_that_would_read_back_as_header_keys_are_replaced() {
         assert_eq!(r.rows, s.rows);
     }
 }
+
+#[test]
+fn coordinate_of_plain_and_state_path_labels() {
+    assert_eq!(coordinate_of_label("knee_angle_r"), Some("knee_angle_r"));
+    assert_eq!(
+        coordinate_of_label("/jointset/walker_knee_r/knee_angle_r/value"),
+        Some("knee_angle_r")
+    );
+    assert_eq!(
+        coordinate_of_label("/jointset/walker_knee_r/knee_angle_r/speed"),
+        None
+    );
+    assert_eq!(coordinate_of_label("/forceset/soleus_r/activation"), None);
+    assert_eq!(coordinate_of_label("//value"), None);
+}
+
+#[test]
+fn state_path_columns_are_coordinates_in_radians() {
+    let text = "states\nendheader\ntime\t/jointset/knee_r/knee_angle_r/value\t\
+                /jointset/knee_r/knee_angle_r/speed\n0\t0.5\t2\n";
+    let s = Storage::parse(text, Path::new("states.sto")).unwrap();
+    assert_eq!(s.coordinate_column("knee_angle_r"), Some(vec![0.5]));
+    assert!(!s.angles_in_degrees());
+    let text = "ik\nendheader\ntime\tknee_angle_r\n0\t30\n";
+    let s = Storage::parse(text, Path::new("ik.mot")).unwrap();
+    assert_eq!(s.coordinate_column("knee_angle_r"), Some(vec![30.0]));
+    assert!(s.angles_in_degrees());
+    let text = "ik\ninDegrees=no\nendheader\ntime\tknee_angle_r\n0\t0.5\n";
+    assert!(!Storage::parse(text, Path::new("ik.mot"))
+        .unwrap()
+        .angles_in_degrees());
+}

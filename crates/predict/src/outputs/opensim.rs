@@ -37,8 +37,8 @@ pub const TRAJECTORY_FILE: &str = "trajectory.sto";
 const FEET: [(&str, &str); 2] = [("r", "calcn_r"), ("l", "calcn_l")];
 
 /// Every model coordinate [rad or m] (model order) of one sample whose problem coordinates
-/// are `q`: locked coordinates at the value the problem holds them at, coordinates the
-/// problem does not use at their default value.
+/// are `q`: locked coordinates at the value the problem holds them at, coupled ones at
+/// their constraint's value, coordinates the problem does not use at their default value.
 pub fn model_coordinates(problem: &GaitProblem, q: &[f64]) -> Vec<f64> {
     let g = &problem.gait;
     let mut out: Vec<f64> = problem
@@ -53,7 +53,24 @@ pub fn model_coordinates(problem: &GaitProblem, q: &[f64]) -> Vec<f64> {
     for (i, gc) in g.coordinates.iter().enumerate() {
         out[gc.model_index] = q[i];
     }
+    let mut v = vec![0.0; out.len()];
+    g.couple(&mut out, &mut v, None);
     out
+}
+
+/// Every model coordinate's value [rad or m], speed [rad s⁻¹ or m s⁻¹] and acceleration
+/// [rad s⁻² or m s⁻²] at cycle sample `s`, as [`model_coordinates`] (coordinates the
+/// problem does not move at rest; coupled ones from their independent coordinate).
+fn model_state(problem: &GaitProblem, cycle: &Trajectory, s: usize) -> [Vec<f64>; 3] {
+    let mut q = model_coordinates(problem, &cycle.q[s]);
+    let mut v = vec![0.0; q.len()];
+    let mut a = vec![0.0; q.len()];
+    for (i, gc) in problem.gait.coordinates.iter().enumerate() {
+        v[gc.model_index] = cycle.v[s][i];
+        a[gc.model_index] = cycle.qdd[s][i];
+    }
+    problem.gait.couple(&mut q, &mut v, Some(&mut a));
+    [q, v, a]
 }
 
 /// Write `model.osim`: a copy of the `.osim` the model was imported from, the shipped
@@ -242,11 +259,7 @@ fn states(problem: &GaitProblem, cycle: &Trajectory, samples: &[SampleOutputs]) 
     }
     let rows = (0..cycle.time.len())
         .map(|s| {
-            let q = model_coordinates(problem, &cycle.q[s]);
-            let mut v = vec![0.0; q.len()];
-            for (i, gc) in g.coordinates.iter().enumerate() {
-                v[gc.model_index] = cycle.v[s][i];
-            }
+            let [q, v, _] = model_state(problem, cycle, s);
             let mut row: Vec<f64> = q.iter().zip(&v).flat_map(|(a, b)| [*a, *b]).collect();
             row.extend(&cycle.activation[s]);
             row.extend(&samples[s].fiber_length);
@@ -259,7 +272,7 @@ fn states(problem: &GaitProblem, cycle: &Trajectory, samples: &[SampleOutputs]) 
 /// Acceleration columns (Moco's derivative names, `/jointset/<joint>/<coordinate>/accel`)
 /// of every model coordinate [rad s⁻² or m s⁻²] at every cycle sample: the accelerations
 /// the solution's dynamics hold at that point (zero for coordinates the problem does not
-/// move), so that inverse dynamics need not differentiate the motion.
+/// move, coupled ones from their independent coordinate), so that inverse dynamics need not differentiate the motion.
 fn accelerations(problem: &GaitProblem, cycle: &Trajectory) -> Table {
     let model = &problem.model;
     let labels = model
@@ -267,14 +280,9 @@ fn accelerations(problem: &GaitProblem, cycle: &Trajectory) -> Table {
         .iter()
         .map(|c| format!("/jointset/{}/{}/accel", model.joints[c.joint].name, c.name))
         .collect();
-    let rows = cycle
-        .qdd
-        .iter()
-        .map(|qdd| {
-            let mut a = vec![0.0; model.coordinates.len()];
-            for (i, gc) in problem.gait.coordinates.iter().enumerate() {
-                a[gc.model_index] = qdd[i];
-            }
+    let rows = (0..cycle.qdd.len())
+        .map(|s| {
+            let [_, _, a] = model_state(problem, cycle, s);
             a
         })
         .collect();
