@@ -149,3 +149,87 @@ pub(crate) fn copy_into(adapted: &Path, out: &Path) -> anyhow::Result<()> {
     let to = out.join(RESULT_FILE);
     write_atomic(&to, &bytes).with_context(|| format!("writing {}", to.display()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// OpenSim's 2D test model (no contact spheres, no lumbar muscle), when present.
+    fn gait10dof() -> Option<PathBuf> {
+        let p = PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../../shared/reference/models/opensim/gait10dof18musc.osim"
+        ));
+        if p.is_file() {
+            Some(p)
+        } else {
+            eprintln!("skipped: {} is absent", p.display());
+            None
+        }
+    }
+
+    #[test]
+    fn a_model_without_contact_is_adapted_once_and_cached_by_content() {
+        let Some(src) = gait10dof() else { return };
+        let dir = std::env::temp_dir().join(format!("stride-adapt-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let model = dir.join("walker.osim");
+        std::fs::copy(&src, &model).unwrap();
+        let cache = dir.join("cache");
+        let first = auto_settings(Some(&model), None, Some(cache.clone()))
+            .unwrap()
+            .unwrap();
+        assert!(first.starts_with(&cache));
+        let text = std::fs::read_to_string(&first).unwrap();
+        assert!(text.contains("coordinate = \"lumbar_extension\""), "{text}");
+        assert_eq!(text.matches("[[contact.spheres]]").count(), 12);
+        // the same content elsewhere: the same cached file
+        let other = dir.join("other.osim");
+        std::fs::copy(&src, &other).unwrap();
+        let again = auto_settings(Some(&other), None, Some(cache.clone()))
+            .unwrap()
+            .unwrap();
+        assert_eq!(again, first);
+        // a settings file given or beside the model, or a shipped model: no adaptation
+        let given = dir.join("given.toml");
+        assert!(
+            auto_settings(Some(&model), Some(&given), Some(cache.clone()))
+                .unwrap()
+                .is_none()
+        );
+        std::fs::write(dir.join("walker.toml"), "").unwrap();
+        assert!(auto_settings(Some(&model), None, Some(cache.clone()))
+            .unwrap()
+            .is_none());
+        assert!(
+            auto_settings(Some(Path::new("gait1018")), None, Some(cache))
+                .unwrap()
+                .is_none()
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn adapt_refuses_to_overwrite_and_names_the_file() {
+        let Some(src) = gait10dof() else { return };
+        let dir = std::env::temp_dir().join(format!("stride-adapt-out-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let out = dir.join("m.toml");
+        std::fs::write(&out, "# mine\n").unwrap();
+        let args = |force| AdaptArgs {
+            file: src.clone(),
+            like: DEFAULT_REFERENCE.into(),
+            out: Some(out.clone()),
+            force,
+        };
+        let e = run(args(false)).unwrap_err().to_string();
+        assert!(e.contains("m.toml") && e.contains("--force"), "{e}");
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "# mine\n");
+        run(args(true)).unwrap();
+        let back = ModelSettings::read(&out).unwrap();
+        assert_eq!(back.contact.spheres.len(), 12);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -236,7 +236,7 @@ fn distances(t: &mut String, a: &Adaptation) {
              min = {}\n\
              max = {}\n",
             a.reference,
-            names(&d.bodies.to_vec()),
+            names(&d.bodies),
             num(d.min),
             num(d.max),
         );

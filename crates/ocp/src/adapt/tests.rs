@@ -64,14 +64,13 @@ fn assert_scaled_copy(
     for s in &a.spheres {
         let (body, loc, radius) = reference_sphere(r, &s.setting.name);
         assert_eq!(s.setting.body, body);
-        for k in 0..3 {
+        for (k, (got, x)) in s.setting.location.iter().zip(loc).enumerate() {
             let up = if k == 1 { lift(&body) } else { 0.0 };
-            let want = factor * loc[k] + up;
+            let want = factor * x + up;
             assert!(
-                (s.setting.location[k] - want).abs() < tol,
-                "{} {k}: {} vs {want}",
-                s.setting.name,
-                s.setting.location[k]
+                (got - want).abs() < tol,
+                "{} {k}: {got} vs {want}",
+                s.setting.name
             );
         }
         assert!((s.setting.radius - factor * radius).abs() < tol);
@@ -187,12 +186,8 @@ fn toes_in_a_rotated_frame_keep_their_place_on_the_foot() {
             .find(|c| c.name == s.setting.name)
             .unwrap();
         let there = rpose.to_body(rheel, rpose.to_ground(c.body, c.location));
-        for k in 0..3 {
-            assert!(
-                (here[k] - s.factor * there[k]).abs() < 1e-9,
-                "{}",
-                s.setting.name
-            );
+        for (a, b) in here.iter().zip(there) {
+            assert!((a - s.factor * b).abs() < 1e-9, "{}", s.setting.name);
         }
     }
 }
