@@ -1,5 +1,6 @@
 //! `stride`: predict human gait from a musculoskeletal model and a target speed.
 
+mod adapt_cmd;
 mod bench_child;
 mod bench_cmd;
 mod bench_geometry;

@@ -32,6 +32,10 @@ pub enum ModelCommand {
         #[arg(long, default_value = "crates/model/data/models/subject1")]
         models: PathBuf,
     },
+    /// Write the model settings file that makes an OpenSim model predict walking: foot
+    /// contact spheres of a shipped model scaled to its feet, torque actuators on the
+    /// coordinates no muscle crosses, PredSim's passive torques and bounds.
+    Adapt(crate::adapt_cmd::AdaptArgs),
     /// Fit polynomial muscle-tendon geometry to the path points of an `.osim` file and print the accuracy table.
     Fit(crate::fit_cmd::FitArgs),
     /// Muscle-tendon lengths and moment arms about every coordinate along a motion (CSV),
@@ -79,6 +83,7 @@ pub fn run(cmd: ModelCommand) -> anyhow::Result<()> {
             );
             Ok(())
         }
+        ModelCommand::Adapt(args) => crate::adapt_cmd::run(args),
         ModelCommand::Fit(args) => crate::fit_cmd::run(args),
         ModelCommand::Paths(args) => crate::paths_cmd::run(args),
     }

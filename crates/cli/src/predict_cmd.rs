@@ -387,6 +387,12 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
     let (study, problem) = read_study_file(args.config.as_deref())?;
     let model_path = args.model.or(study.model);
     let model_settings = args.model_settings.or(study.model_settings);
+    let adapted = crate::adapt_cmd::auto_settings(
+        model_path.as_deref(),
+        model_settings.as_deref(),
+        crate::model_load::cache_dir(),
+    )?;
+    let model_settings = model_settings.or(adapted.clone());
     let mut settings = layered_problem(&problem, model_path.as_deref(), model_settings.as_deref())?;
     if let Some(v) = args.speed {
         settings.speed = v;
@@ -464,6 +470,9 @@ pub fn run(args: PredictArgs) -> anyhow::Result<()> {
     }
     let kept = predict::select(&solved);
     let summary = results::write_results(&problem, &solved, kept, solver.name(), &options, &out)?;
+    if let Some(a) = &adapted {
+        crate::adapt_cmd::copy_into(a, &out)?;
+    }
     if !args.no_view && kept.is_some() {
         crate::view_cmd::write_default(&out, &model)?;
     }

@@ -221,15 +221,19 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
     )?;
     check_correctors(&options, "ipm")?;
     options.threads = args.threads.unwrap_or(0);
+    let model_path = args.model.as_ref().or(file.model.as_ref());
+    let model_settings = args
+        .model_settings
+        .as_ref()
+        .or(file.model_settings.as_ref());
+    let adapted = crate::adapt_cmd::auto_settings(
+        model_path.map(PathBuf::as_path),
+        model_settings.map(PathBuf::as_path),
+        crate::model_load::cache_dir(),
+    )?;
     let (model, used) = crate::model_load::load_model_with_settings(
-        args.model
-            .as_ref()
-            .or(file.model.as_ref())
-            .map(PathBuf::as_path),
-        args.model_settings
-            .as_ref()
-            .or(file.model_settings.as_ref())
-            .map(PathBuf::as_path),
+        model_path.map(PathBuf::as_path),
+        model_settings.or(adapted.as_ref()).map(PathBuf::as_path),
         args.geometry
             .as_ref()
             .or(file.geometry.as_ref())
@@ -261,10 +265,14 @@ pub fn run(args: TrackArgs) -> anyhow::Result<()> {
         eprintln!();
     }
     let (tp, r) = (&solved.problem, &solved.result);
-    let extra = match tp.settings.calibrate_contact {
+    let mut extra = match tp.settings.calibrate_contact {
         true => vec![calibrated_model_file(&used, tp, &r.x)?],
         false => Vec::new(),
     };
+    if let Some(a) = &adapted {
+        let bytes = std::fs::read(a).with_context(|| format!("reading {}", a.display()))?;
+        extra.push((crate::adapt_cmd::RESULT_FILE.into(), bytes));
+    }
     let errors = track_output::write_results(
         tp,
         r,

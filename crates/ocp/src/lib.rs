@@ -8,12 +8,15 @@
 //! - [`radau`]: Radau collocation coefficients.
 //! - [`layout`]: the NLP variable layout.
 //! - [`contact_geometry`]: contact-sphere geometry files (calibrated spheres).
+//! - [`adapt`]: settings that make an OpenSim model without foot contact (or with
+//!   undriven coordinates) predict walking (`stride model adapt`, decision 0008).
 //! - [`standing`]: the standing pelvis height of a model (quasi-random guess).
 //! - [`statics`]: static parameters (constant over time) appended to the NLP vector.
 //! - [`outcomes`]: outcome measures of a predicted gait cycle.
 //! - [`measures`]: trunk sway and stance measures compared between conditions.
 //! - [`threads`]: the worker threads of a solve.
 
+pub mod adapt;
 pub mod bounds;
 pub mod bounds_model;
 pub mod contact_geometry;
