@@ -264,10 +264,10 @@ fn predict_help_states_the_time_limit_it_applies() {
 fn tracking_windows_and_measured_forces_are_checked_by_name() {
     let d = scratch("track");
     for (window, needle) in [
-        ("4,4", "window [4, 4] s: the end must be after the start"),
+        ("4,4", "window [4, 4] s: its end must come after its start"),
         (
             "4.2,3.5",
-            "window [4.2, 3.5] s: the end must be after the start",
+            "window [4.2, 3.5] s: its end must come after its start",
         ),
     ] {
         rejects(
