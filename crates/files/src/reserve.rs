@@ -12,7 +12,7 @@
 //! ([`recover`]) and removes the rest. Nothing else in `DIR` is ever touched.
 
 use crate::claim::{Claim, ClaimError, Holder};
-use crate::result_dir::{foreign_entries, parent_of};
+use crate::marker::{foreign_entries, parent_of};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, Weak};
 

@@ -13,8 +13,13 @@ use stride_model::Model;
 pub const MIN_LENGTH_MISMATCH_M: f64 = 0.02;
 
 /// Check the muscle polynomials of `model` (already set from `source`, a geometry file)
-/// against its muscle paths.
-pub fn check_polynomials(model: &Model, source: &str) -> Result<(), GeometryError> {
+/// against its muscle paths; their lengths at the default pose only when `lengths_too`
+/// (a fit over the coordinate ranges, which holds there).
+pub fn check_polynomials(
+    model: &Model,
+    source: &str,
+    lengths_too: bool,
+) -> Result<(), GeometryError> {
     if model.muscles.is_empty() {
         return Ok(());
     }
@@ -34,6 +39,9 @@ pub fn check_polynomials(model: &Model, source: &str) -> Result<(), GeometryErro
                 "muscle {name}: its polynomial spans coordinate {}, which does not move the muscle's path in model {} (fitted to another model, or muscle names swapped?)",
                 model.coordinates[c].name, model.name
             )));
+        }
+        if !lengths_too {
+            continue;
         }
         let l = polynomial_length(p, &q);
         let tol = MIN_LENGTH_MISMATCH_M.max(5.0 * p.rmse_length.unwrap_or(0.0));

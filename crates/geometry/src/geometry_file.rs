@@ -18,9 +18,11 @@ pub const FORMAT: &str = "stride-muscle-geometry-1";
 /// Largest geometry file read [bytes] (a fit of a hundred muscles is about 0.5 MB).
 pub const MAX_GEOMETRY_BYTES: u64 = 64 << 20;
 
-/// Largest polynomial coefficient accepted [m per rad^k]: fitted lengths are below a
-/// metre and their coefficients below one; this bound refuses only corrupt values.
-pub const MAX_COEFFICIENT: f64 = 1.0e3;
+/// Largest polynomial coefficient accepted [m per rad^k or m per m^k]: fitted lengths are
+/// below a metre, but a high-order term over a small coordinate range (a few centimetres of
+/// a translation, a narrow wrap) takes coefficients of 10³–10⁴; this bound refuses only
+/// values that overflow the derivatives (corrupt files), not such fits.
+pub const MAX_COEFFICIENT: f64 = 1.0e9;
 
 /// How the fitting poses were made.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -291,7 +293,14 @@ impl GeometryFile {
         for (l, p) in model.ligaments.iter_mut().zip(ligament_polys) {
             l.path_polynomial = p;
         }
-        check_polynomials(model, &format!("geometry file of model {}", self.model))
+        // a fit to the poses of a motion file holds only near them, not necessarily at the
+        // default pose: its lengths are not compared there
+        let at_default_pose = self.settings.seed.is_some();
+        check_polynomials(
+            model,
+            &format!("geometry file of model {}", self.model),
+            at_default_pose,
+        )
     }
 
     /// The file's muscles are the model's: no name twice, none the model lacks.

@@ -159,7 +159,7 @@ fn a_file_that_does_not_fit_the_model_is_refused_naming_the_muscle() {
     v["path_polynomials"][0]["coefficients"][0] = 1e300.into();
     let e = apply_err(&model, &v);
     assert!(
-        e.contains("coefficient 1e300 is not finite or larger than 1000"),
+        e.contains("coefficient 1e300 is not finite or larger than 1000000000"),
         "{e}"
     );
     let mut v = shipped.clone();

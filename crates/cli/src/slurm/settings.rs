@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::Command;
 use stride_study::spec::SlurmSection;
 
-use super::words::{check_name, check_sbatch_arg};
+use super::words::{check_name, check_sbatch_arg, parse_mem, parse_time};
 
 /// Slurm options of `stride study` (each overrides the study file's `[slurm]` key).
 #[derive(Args, Clone, Debug, Default)]
@@ -57,72 +57,10 @@ pub struct Settings {
     pub extra: Vec<String>,
 }
 
-/// Seconds of a Slurm time limit (`minutes`, `minutes:seconds`, `hours:minutes:seconds`,
-/// `days-hours`, `days-hours:minutes`, `days-hours:minutes:seconds`).
-pub fn parse_time(text: &str) -> anyhow::Result<u64> {
-    let bad = || {
-        anyhow::anyhow!(
-            "time `{text}`: expected a positive Slurm time limit (`minutes`, `HH:MM:SS`, `D-HH:MM`, …)"
-        )
-    };
-    let t = text.trim();
-    let (days, rest) = match t.split_once('-') {
-        Some((d, r)) => (Some(d), r),
-        None => (None, t),
-    };
-    let num = |s: &str| -> anyhow::Result<u64> {
-        if s.is_empty() || !s.bytes().all(|b| b.is_ascii_digit()) {
-            return Err(bad());
-        }
-        s.parse().map_err(|_| bad())
-    };
-    let parts: Vec<u64> = rest.split(':').map(num).collect::<Result<_, _>>()?;
-    let secs = match (days, parts.as_slice()) {
-        (None, [m]) => m * 60,
-        (None, [m, s]) => m * 60 + s,
-        (None, [h, m, s]) => h * 3600 + m * 60 + s,
-        (Some(d), [h]) => num(d)? * 86400 + h * 3600,
-        (Some(d), [h, m]) => num(d)? * 86400 + h * 3600 + m * 60,
-        (Some(d), [h, m, s]) => num(d)? * 86400 + h * 3600 + m * 60 + s,
-        _ => return Err(bad()),
-    };
-    if secs == 0 {
-        return Err(bad());
-    }
-    Ok(secs)
-}
-
 /// Slurm's `D-HH:MM:SS` for `secs`.
 pub fn format_time(secs: u64) -> String {
     let (d, r) = (secs / 86400, secs % 86400);
     format!("{d}-{:02}:{:02}:{:02}", r / 3600, (r % 3600) / 60, r % 60)
-}
-
-/// Megabytes of a Slurm memory size (`4096`, `4096M`, `4G`, `1T`; no unit: MB).
-pub fn parse_mem(text: &str) -> anyhow::Result<u64> {
-    let bad = || anyhow::anyhow!("mem `{text}`: expected a positive size such as `4G` or `4096M`");
-    let t = text.trim();
-    let (digits, scale) = match t.char_indices().last() {
-        Some((i, c)) if c.is_ascii_alphabetic() => {
-            let scale = match c.to_ascii_uppercase() {
-                'K' => 1.0 / 1024.0,
-                'M' => 1.0,
-                'G' => 1024.0,
-                'T' => 1024.0 * 1024.0,
-                _ => return Err(bad()),
-            };
-            (&t[..i], scale)
-        }
-        _ => (t, 1.0),
-    };
-    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
-        return Err(bad());
-    }
-    let mb = (digits.parse::<f64>().map_err(|_| bad())? * scale).ceil() as u64;
-    if mb == 0 {
-        return Err(bad());
-    }
-    Ok(mb)
 }
 
 /// The submission settings: command line over `[slurm]` over defaults (`default_time_s`

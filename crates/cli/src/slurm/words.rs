@@ -3,8 +3,69 @@
 //! line), names (partition, account, QOS) by Slurm's syntax, time and memory by their
 //! parsers; and the quoting of a value on an `#SBATCH` line.
 
-use super::settings::{parse_mem, parse_time};
 use anyhow::bail;
+
+/// Seconds of a Slurm time limit (`minutes`, `minutes:seconds`, `hours:minutes:seconds`,
+/// `days-hours`, `days-hours:minutes`, `days-hours:minutes:seconds`).
+pub fn parse_time(text: &str) -> anyhow::Result<u64> {
+    let bad = || {
+        anyhow::anyhow!(
+            "time `{text}`: expected a positive Slurm time limit (`minutes`, `HH:MM:SS`, `D-HH:MM`, …)"
+        )
+    };
+    let t = text.trim();
+    let (days, rest) = match t.split_once('-') {
+        Some((d, r)) => (Some(d), r),
+        None => (None, t),
+    };
+    let num = |s: &str| -> anyhow::Result<u64> {
+        if s.is_empty() || !s.bytes().all(|b| b.is_ascii_digit()) {
+            return Err(bad());
+        }
+        s.parse().map_err(|_| bad())
+    };
+    let parts: Vec<u64> = rest.split(':').map(num).collect::<Result<_, _>>()?;
+    let secs = match (days, parts.as_slice()) {
+        (None, [m]) => m * 60,
+        (None, [m, s]) => m * 60 + s,
+        (None, [h, m, s]) => h * 3600 + m * 60 + s,
+        (Some(d), [h]) => num(d)? * 86400 + h * 3600,
+        (Some(d), [h, m]) => num(d)? * 86400 + h * 3600 + m * 60,
+        (Some(d), [h, m, s]) => num(d)? * 86400 + h * 3600 + m * 60 + s,
+        _ => return Err(bad()),
+    };
+    if secs == 0 {
+        return Err(bad());
+    }
+    Ok(secs)
+}
+
+/// Megabytes of a Slurm memory size (`4096`, `4096M`, `4G`, `1T`; no unit: MB).
+pub fn parse_mem(text: &str) -> anyhow::Result<u64> {
+    let bad = || anyhow::anyhow!("mem `{text}`: expected a positive size such as `4G` or `4096M`");
+    let t = text.trim();
+    let (digits, scale) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => {
+            let scale = match c.to_ascii_uppercase() {
+                'K' => 1.0 / 1024.0,
+                'M' => 1.0,
+                'G' => 1024.0,
+                'T' => 1024.0 * 1024.0,
+                _ => return Err(bad()),
+            };
+            (&t[..i], scale)
+        }
+        _ => (t, 1.0),
+    };
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return Err(bad());
+    }
+    let mb = (digits.parse::<f64>().map_err(|_| bad())? * scale).ceil() as u64;
+    if mb == 0 {
+        return Err(bad());
+    }
+    Ok(mb)
+}
 
 /// Refuse `value` (the setting `what`) when it holds a control character.
 pub fn check_no_control(what: &str, value: &str) -> anyhow::Result<()> {
@@ -96,11 +157,16 @@ fn long_name(letter: char) -> &'static str {
     }
 }
 
-/// `value` as one word of an `#SBATCH` line: in double quotes, with `\` and `"`
-/// escaped by a backslash (sbatch reads quotes and backslashes on these lines; an
-/// unquoted `#` would start a comment, a space would split the word). Control characters
-/// must have been refused before.
+/// `value` as one word of an `#SBATCH` line: as it is when it holds only letters, digits
+/// and `-_=.,:/%+@`, else in double quotes, with `\` and `"` escaped by a backslash
+/// (sbatch reads quotes and backslashes on these lines; an unquoted `#` would start a
+/// comment, a space would split the word). Control characters must have been refused
+/// before.
 pub fn sbatch_word(value: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "-_=.,:/%+@".contains(c);
+    if !value.is_empty() && value.chars().all(plain) {
+        return value.to_string();
+    }
     let mut s = String::from("\"");
     for c in value.chars() {
         if c == '"' || c == '\\' {
@@ -160,6 +226,11 @@ mod tests {
         assert_eq!(
             sbatch_word("--comment=a \"b\" #c\\"),
             r#""--comment=a \"b\" #c\\""#
+        );
+        assert_eq!(sbatch_word("--account=gait"), "--account=gait");
+        assert_eq!(
+            sbatch_word("--output=/a b/%x.out"),
+            "\"--output=/a b/%x.out\""
         );
     }
 }
